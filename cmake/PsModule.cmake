@@ -1,0 +1,86 @@
+# ps_define_module(<name> [DEPS <module>...] [PUBLIC_LIBS <target>...] [PRIVATE_LIBS <target>...])
+#
+# Defines an OpenCV-style module from modules/<name>:
+#   include/photoscene/<name>.hpp (+ include/photoscene/<name>/*.hpp)  public headers
+#   src/*.cpp                                                           the library ps_<name>
+#   test/*.cpp   -> ps_test_<name> (GoogleTest, every test registered with ctest)
+#   perf/*.cpp   -> ps_perf_<name> (Google Benchmark)
+# DEPS names other photoscene modules (without the ps_ prefix). Modules may be declared in any
+# order; ps_check_module_graph() refuses a dependency cycle or an unknown module at the end.
+
+define_property(GLOBAL PROPERTY PS_MODULES BRIEF_DOCS "photoscene modules" FULL_DOCS "all modules")
+
+function(ps_define_module name)
+  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  set(target ps_${name})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+  file(GLOB_RECURSE hdrs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/include/*.hpp)
+  if(NOT srcs)
+    message(FATAL_ERROR "module ${name}: no sources in ${CMAKE_CURRENT_SOURCE_DIR}/src")
+  endif()
+  add_library(${target} STATIC ${srcs} ${hdrs})
+  add_library(photoscene::${name} ALIAS ${target})
+  target_include_directories(${target}
+    PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+  set(dep_targets)
+  foreach(dep IN LISTS ARG_DEPS)
+    list(APPEND dep_targets ps_${dep})
+  endforeach()
+  target_link_libraries(${target} PUBLIC ${dep_targets} ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+  set_property(GLOBAL APPEND PROPERTY PS_MODULES ${name})
+  set_property(GLOBAL PROPERTY PS_MODULE_DEPS_${name} "${ARG_DEPS}")
+
+  if(PS_BUILD_TESTS)
+    file(GLOB test_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/*.cpp)
+    if(test_srcs)
+      add_executable(ps_test_${name} ${test_srcs})
+      target_link_libraries(ps_test_${name} PRIVATE ${target} GTest::gtest GTest::gtest_main)
+      target_compile_definitions(ps_test_${name} PRIVATE
+        PS_SHARED_DATA_DIR="${PS_SHARED_DATA_DIR}" PS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
+        PS_BINARY_DIR="${CMAKE_BINARY_DIR}")
+      gtest_discover_tests(ps_test_${name} DISCOVERY_MODE PRE_TEST
+        WORKING_DIRECTORY ${CMAKE_BINARY_DIR} PROPERTIES LABELS ${name})
+    endif()
+  endif()
+  if(PS_BUILD_PERF)
+    file(GLOB perf_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/perf/*.cpp)
+    if(perf_srcs)
+      add_executable(ps_perf_${name} ${perf_srcs})
+      target_link_libraries(ps_perf_${name} PRIVATE ${target} benchmark::benchmark benchmark::benchmark_main)
+      target_compile_definitions(ps_perf_${name} PRIVATE PS_SHARED_DATA_DIR="${PS_SHARED_DATA_DIR}")
+    endif()
+  endif()
+endfunction()
+
+# Depth-first search over the declared module graph; a back edge is a cycle.
+function(_ps_visit_module name path)
+  get_property(state GLOBAL PROPERTY PS_VISIT_${name})
+  if(state STREQUAL "done")
+    return()
+  endif()
+  if(state STREQUAL "active")
+    list(JOIN path " -> " chain)
+    message(FATAL_ERROR "photoscene: module dependency cycle: ${chain} -> ${name}")
+  endif()
+  get_property(known GLOBAL PROPERTY PS_MODULES)
+  if(NOT name IN_LIST known)
+    list(JOIN path " -> " chain)
+    message(FATAL_ERROR "photoscene: unknown module '${name}' (needed by ${chain})")
+  endif()
+  set_property(GLOBAL PROPERTY PS_VISIT_${name} active)
+  get_property(deps GLOBAL PROPERTY PS_MODULE_DEPS_${name})
+  foreach(dep IN LISTS deps)
+    _ps_visit_module(${dep} "${path};${name}")
+  endforeach()
+  set_property(GLOBAL PROPERTY PS_VISIT_${name} done)
+endfunction()
+
+function(ps_check_module_graph)
+  get_property(mods GLOBAL PROPERTY PS_MODULES)
+  foreach(m IN LISTS mods)
+    _ps_visit_module(${m} "")
+  endforeach()
+  list(JOIN mods ", " all)
+  message(STATUS "photoscene modules: ${all}")
+endfunction()
