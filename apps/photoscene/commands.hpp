@@ -1,0 +1,29 @@
+// The subcommands of `photoscene` (spec: ../shared/spec/scene-format.md section 4).
+//
+// Each add*Command registers one CLI11 subcommand on `root`; its callback does the work and
+// reports failure by throwing: ps::InputError for bad input (exit 2), ps::NotBuiltYet for a
+// stage that does not exist yet (exit 1), anything else (exit 1). main.cpp maps them.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace ps::app {
+
+/// Thrown by a subcommand whose pipeline stages have not been built yet (exit 1, no output).
+class NotBuiltYet : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+void addRunCommand(CLI::App& root);
+void addRenderCommand(CLI::App& root);
+void addEvalCommand(CLI::App& root);
+void addGraphsCommand(CLI::App& root);
+void addCheckCommand(CLI::App& root);
+
+/// `photoscene` with no arguments: runs the bundled sample into ./photoscene-demo.
+void runDemo();
+
+}  // namespace ps::app
