@@ -1,4 +1,5 @@
-# ps_define_module(<name> [DEPS <module>...] [PUBLIC_LIBS <target>...] [PRIVATE_LIBS <target>...])
+# ps_define_module(<name> [DEPS <module>...] [PUBLIC_LIBS <target>...] [PRIVATE_LIBS <target>...]
+#                  [TEST_LIBS <target>...])
 #
 # Defines an OpenCV-style module from modules/<name>:
 #   include/photoscene/<name>.hpp (+ include/photoscene/<name>/*.hpp)  public headers
@@ -11,7 +12,7 @@
 define_property(GLOBAL PROPERTY PS_MODULES BRIEF_DOCS "photoscene modules" FULL_DOCS "all modules")
 
 function(ps_define_module name)
-  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS;TEST_LIBS" ${ARGN})
   set(target ps_${name})
   file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
   file(GLOB_RECURSE hdrs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/include/*.hpp)
@@ -35,7 +36,7 @@ function(ps_define_module name)
     file(GLOB test_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/*.cpp)
     if(test_srcs)
       add_executable(ps_test_${name} ${test_srcs})
-      target_link_libraries(ps_test_${name} PRIVATE ${target} GTest::gtest GTest::gtest_main)
+      target_link_libraries(ps_test_${name} PRIVATE ${target} ${ARG_TEST_LIBS} GTest::gtest GTest::gtest_main)
       target_compile_definitions(ps_test_${name} PRIVATE
         PS_SHARED_DATA_DIR="${PS_SHARED_DATA_DIR}" PS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
         PS_BINARY_DIR="${CMAKE_BINARY_DIR}")

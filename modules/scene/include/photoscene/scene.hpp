@@ -1,0 +1,7 @@
+// photoscene scene: mesh and material parts, cameras, views, lights, UV generation.
+#pragma once
+
+#include "photoscene/scene/camera.hpp"
+#include "photoscene/scene/lights.hpp"
+#include "photoscene/scene/mesh.hpp"
+#include "photoscene/scene/scene.hpp"
