@@ -1,0 +1,929 @@
+// Generator nodes: uniform values, noises, gradients, stripes, checker, shapes, tiles,
+// herringbone, weave. All periodic on the unit square (integer frequencies), all spatial
+// parameters in texture units. u = (x + 0.5) / n, v = 1 - (y + 0.5) / n (row 0 at the top).
+#include "node.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace ps::graphimpl {
+namespace {
+
+template <class T>
+inline T uCoord(int x, int n) {
+  return (T(x) + T(0.5)) / T(n);
+}
+template <class T>
+inline T vCoord(int y, int n) {
+  return T(1) - (T(y) + T(0.5)) / T(n);
+}
+template <class T>
+inline T smooth3(T t) {
+  return t * t * (T(3) - T(2) * t);
+}
+template <class T>
+inline T smooth3d(T t) {
+  return T(6) * t * (T(1) - t);
+}
+
+// ---------------------------------------------------------------- uniform
+struct UniformGray {
+  static NodeTypeDesc desc() {
+    return {"uniform_gray", "A constant gray value.", {}, {{"out", 1}},
+            {pCont("value", 0, 1, 0.5f, "the value")}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    std::fill(c.out[0]->d.begin(), c.out[0]->d.end(), c.P(0));
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    T s = 0;
+    for (T g : c.dOut[0]->d) s += g;
+    c.dP(0) += s;
+  }
+};
+
+struct UniformColor {
+  static NodeTypeDesc desc() {
+    return {"uniform_color", "A constant linear RGB color.", {}, {{"out", 3}},
+            {pColor("color", 0.5f, 0.5f, 0.5f, "linear RGB")}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    auto& o = c.out[0]->d;
+    for (size_t i = 0; i < o.size(); i += 3)
+      for (int k = 0; k < 3; ++k) o[i + k] = c.P(0, k);
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const auto& g = c.dOut[0]->d;
+    T s[3] = {0, 0, 0};
+    for (size_t i = 0; i < g.size(); i += 3)
+      for (int k = 0; k < 3; ++k) s[k] += g[i + k];
+    for (int k = 0; k < 3; ++k) c.dP(0, k) += s[k];
+  }
+};
+
+// ---------------------------------------------------------------- gradient noise (fBm)
+constexpr float kGradDirs[16][2] = {
+    {1.f, 0.f},          {0.92388f, 0.38268f},  {0.70711f, 0.70711f},  {0.38268f, 0.92388f},
+    {0.f, 1.f},          {-0.38268f, 0.92388f}, {-0.70711f, 0.70711f}, {-0.92388f, 0.38268f},
+    {-1.f, 0.f},         {-0.92388f, -0.38268f}, {-0.70711f, -0.70711f}, {-0.38268f, -0.92388f},
+    {0.f, -1.f},         {0.38268f, -0.92388f}, {0.70711f, -0.70711f},  {0.92388f, -0.38268f}};
+
+/// One row of periodic Perlin noise: periods px, py (cells per unit), writes n values to dst.
+template <class T>
+void perlinRow(T* dst, int n, int y, int px, int py, uint32_t seed) {
+  const T v = vCoord<T>(y, n) * T(py);
+  const T fy0 = std::floor(v);
+  const T fy = v - fy0;
+  const int iy0 = wrapi(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
+  const T sy = fy * fy * fy * (fy * (fy * T(6) - T(15)) + T(10));
+  int lastCell = -1;
+  T g00x = 0, g00y = 0, g10x = 0, g10y = 0, g01x = 0, g01y = 0, g11x = 0, g11y = 0;
+  const T scale = T(px) / T(n);
+  for (int x = 0; x < n; ++x) {
+    const T u = (T(x) + T(0.5)) * scale;
+    const T fx0 = std::floor(u);
+    const T fx = u - fx0;
+    const int cell = static_cast<int>(fx0);
+    if (cell != lastCell) {
+      lastCell = cell;
+      const int ix0 = wrapi(cell, px), ix1 = (ix0 + 1) % px;
+      auto dir = [&](int ix, int iy, T& gx, T& gy) {
+        const uint32_t h = hash3(uint32_t(ix), uint32_t(iy), seed) & 15u;
+        gx = kGradDirs[h][0];
+        gy = kGradDirs[h][1];
+      };
+      dir(ix0, iy0, g00x, g00y);
+      dir(ix1, iy0, g10x, g10y);
+      dir(ix0, iy1, g01x, g01y);
+      dir(ix1, iy1, g11x, g11y);
+    }
+    const T sx = fx * fx * fx * (fx * (fx * T(6) - T(15)) + T(10));
+    const T d00 = g00x * fx + g00y * fy, d10 = g10x * (fx - 1) + g10y * fy;
+    const T d01 = g01x * fx + g01y * (fy - 1), d11 = g11x * (fx - 1) + g11y * (fy - 1);
+    const T a = d00 + sx * (d10 - d00), b = d01 + sx * (d11 - d01);
+    dst[x] = a + sy * (b - a);
+  }
+}
+
+struct Fbm {
+  enum { kScaleX, kScaleY, kOctaves, kRoughness, kSeed };
+  static NodeTypeDesc desc() {
+    return {"fbm",
+            "Tileable gradient (Perlin) noise, octaves summed with amplitude roughness^k; "
+            "output centered on 0.5 (about [0, 1]).",
+            {},
+            {{"out", 1}},
+            {pInt("scale_x", 1, 256, 4, "cells per unit along u"),
+             pInt("scale_y", 1, 256, 4, "cells per unit along v"),
+             pInt("octaves", 1, 8, 5, "number of octaves (frequency doubles each)"),
+             pCont("roughness", 0, 1, 0.5f, "amplitude ratio between octaves"), pSeed()}};
+  }
+  static constexpr double kGain = 0.9;
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, K = c.I(kOctaves);
+    const T r = c.P(kRoughness);
+    auto& S = *c.scratch;
+    S.resize(K);
+    T q2 = 0;
+    std::vector<T> amp(K);
+    for (int k = 0; k < K; ++k) {
+      amp[k] = std::pow(r, T(k));
+      q2 += amp[k] * amp[k];
+      S[k].create(n, 1);
+    }
+    const T q = std::sqrt(std::max(q2, T(1e-12)));
+    const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      for (int k = 0; k < K; ++k) {
+        perlinRow(S[k].row(y), n, y, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
+      }
+      for (int x = 0; x < n; ++x) {
+        T s = 0;
+        for (int k = 0; k < K; ++k) s += amp[k] * S[k].row(y)[x];
+        o[x] = T(0.5) + T(kGain) * s / q;
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, K = c.I(kOctaves);
+    if (K < 2) return;
+    const T r = c.P(kRoughness);
+    std::vector<T> amp(K), damp(K);
+    T q2 = 0, dq2 = 0;
+    for (int k = 0; k < K; ++k) {
+      amp[k] = std::pow(r, T(k));
+      damp[k] = k == 0 ? T(0) : T(k) * std::pow(r, T(k - 1));
+      q2 += amp[k] * amp[k];
+      dq2 += T(2) * amp[k] * damp[k];
+    }
+    const T q = std::sqrt(std::max(q2, T(1e-12)));
+    const T dq = dq2 / (T(2) * q);
+    const auto& S = *c.scratch;
+    T acc = 0;
+    for (int y = 0; y < n; ++y) {
+      const T* g = c.dOut[0]->row(y);
+      for (int x = 0; x < n; ++x) {
+        T s = 0, ds = 0;
+        for (int k = 0; k < K; ++k) {
+          const T v = S[k].row(y)[x];
+          s += amp[k] * v;
+          ds += damp[k] * v;
+        }
+        acc += g[x] * (ds * q - s * dq) / q2;
+      }
+    }
+    c.dP(kRoughness) += T(kGain) * acc;
+  }
+};
+
+// ---------------------------------------------------------------- value noise / white noise
+struct ValueNoise {
+  enum { kScale, kOctaves, kSeed };
+  static NodeTypeDesc desc() {
+    return {"value_noise",
+            "Blurred noise: random values on a periodic lattice, smoothly interpolated, octaves "
+            "with amplitude 1/2^k; in [0, 1].",
+            {},
+            {{"out", 1}},
+            {pInt("scale", 1, 512, 8, "lattice cells per unit"),
+             pInt("octaves", 1, 8, 1, "octaves"), pSeed()}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, K = c.I(kOctaves), s0 = c.I(kScale);
+    const uint32_t seed = uint32_t(c.I(kSeed));
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      std::fill(o, o + n, T(0));
+      T norm = 0;
+      for (int k = 0; k < K; ++k) {
+        const int p = s0 << k;
+        const T a = std::pow(T(0.5), T(k));
+        norm += a;
+        const T v = vCoord<T>(y, n) * T(p) - T(0.5);
+        const T fy0 = std::floor(v);
+        const T sy = smooth3(v - fy0);
+        const int iy0 = wrapi(int(fy0), p), iy1 = (iy0 + 1) % p;
+        for (int x = 0; x < n; ++x) {
+          const T u = uCoord<T>(x, n) * T(p) - T(0.5);
+          const T fx0 = std::floor(u);
+          const T sx = smooth3(u - fx0);
+          const int ix0 = wrapi(int(fx0), p), ix1 = (ix0 + 1) % p;
+          const uint32_t sd = seed * 977u + k;
+          const T h00 = hashf(ix0, iy0, sd), h10 = hashf(ix1, iy0, sd);
+          const T h01 = hashf(ix0, iy1, sd), h11 = hashf(ix1, iy1, sd);
+          const T aa = h00 + sx * (h10 - h00), bb = h01 + sx * (h11 - h01);
+          o[x] += a * (aa + sy * (bb - aa));
+        }
+      }
+      for (int x = 0; x < n; ++x) o[x] /= norm;
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>&) {}
+};
+
+struct WhiteNoise {
+  enum { kScale, kSeed };
+  static NodeTypeDesc desc() {
+    return {"white_noise", "Independent uniform values in [0, 1] on a grid of scale x scale cells.",
+            {}, {{"out", 1}},
+            {pInt("scale", 1, 4096, 256, "cells per unit"), pSeed()}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, s = c.I(kScale);
+    const uint32_t seed = uint32_t(c.I(kSeed));
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const int iy = std::min(s - 1, int(vCoord<T>(y, n) * T(s)));
+      for (int x = 0; x < n; ++x) {
+        const int ix = std::min(s - 1, int(uCoord<T>(x, n) * T(s)));
+        o[x] = hashf(ix, iy, seed);
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>&) {}
+};
+
+// ---------------------------------------------------------------- voronoi
+struct Voronoi {
+  enum { kScale, kJitter, kMode, kSeed };
+  static NodeTypeDesc desc() {
+    return {"voronoi",
+            "Cellular noise on a periodic grid of jittered points: F1 (distance to the nearest "
+            "point), F2 - F1 (cell borders) or the nearest cell's random value; distances in cell "
+            "units.",
+            {},
+            {{"out", 1}},
+            {pInt("scale", 1, 256, 8, "cells per unit"),
+             pCont("jitter", 0, 1, 0.9f, "how far points move from cell centers"),
+             pChoice("mode", {"f1", "f2_minus_f1", "cell_value"}, 0, "what to output"),
+             pSeed()}};
+  }
+  struct Hit {
+    double d1, d2;
+    int c1x, c1y, c2x, c2y;
+  };
+  template <class T>
+  static void search(T px, T py, int s, T jitter, uint32_t seed, T& d1, T& d2, int* b1, int* b2,
+                     T* f1, T* f2, T* h1, T* h2) {
+    const int cx = int(std::floor(px)), cy = int(std::floor(py));
+    d1 = d2 = T(1e9);
+    for (int j = -1; j <= 1; ++j)
+      for (int i = -1; i <= 1; ++i) {
+        const int qx = cx + i, qy = cy + j;
+        const int wx = wrapi(qx, s), wy = wrapi(qy, s);
+        const T hx = hashf(wx, wy, seed), hy = hashf(wx, wy, seed + 1);
+        const T fx = T(qx) + T(0.5) + jitter * (hx - T(0.5));
+        const T fy = T(qy) + T(0.5) + jitter * (hy - T(0.5));
+        const T d = std::sqrt((px - fx) * (px - fx) + (py - fy) * (py - fy));
+        if (d < d1) {
+          d2 = d1;
+          b2[0] = b1[0], b2[1] = b1[1];
+          f2[0] = f1[0], f2[1] = f1[1];
+          h2[0] = h1[0], h2[1] = h1[1];
+          d1 = d;
+          b1[0] = wx, b1[1] = wy;
+          f1[0] = fx, f1[1] = fy;
+          h1[0] = hx, h1[1] = hy;
+        } else if (d < d2) {
+          d2 = d;
+          b2[0] = wx, b2[1] = wy;
+          f2[0] = fx, f2[1] = fy;
+          h2[0] = hx, h2[1] = hy;
+        }
+      }
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, s = c.I(kScale), mode = c.I(kMode);
+    const T jit = c.P(kJitter);
+    const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const T py = vCoord<T>(y, n) * T(s);
+      for (int x = 0; x < n; ++x) {
+        const T px = uCoord<T>(x, n) * T(s);
+        T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
+        int b1[2] = {0, 0}, b2[2] = {0, 0};
+        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2);
+        o[x] = mode == 0 ? d1 : mode == 1 ? d2 - d1 : T(hashf(b1[0], b1[1], seed + 5));
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, s = c.I(kScale), mode = c.I(kMode);
+    if (mode == 2) return;
+    const T jit = c.P(kJitter);
+    const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
+    T acc = 0;
+    for (int y = 0; y < n; ++y) {
+      const T py = vCoord<T>(y, n) * T(s);
+      const T* g = c.dOut[0]->row(y);
+      for (int x = 0; x < n; ++x) {
+        const T px = uCoord<T>(x, n) * T(s);
+        T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
+        int b1[2] = {0, 0}, b2[2] = {0, 0};
+        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2);
+        auto dd = [&](T d, const T* f, const T* h) {
+          if (d < T(1e-9)) return T(0);
+          return -((px - f[0]) * (h[0] - T(0.5)) + (py - f[1]) * (h[1] - T(0.5))) / d;
+        };
+        const T g1 = dd(d1, f1, h1);
+        acc += g[x] * (mode == 0 ? g1 : dd(d2, f2, h2) - g1);
+      }
+    }
+    c.dP(kJitter) += acc;
+  }
+};
+
+// ---------------------------------------------------------------- gradients
+struct GradientLinear {
+  enum { kDir, kRepeats, kShape };
+  static NodeTypeDesc desc() {
+    return {"gradient_linear",
+            "A ramp 0 -> 1 repeated `repeats` times along u or v (saw) or 0 -> 1 -> 0 (triangle).",
+            {},
+            {{"out", 1}},
+            {pChoice("direction", {"u", "v"}, 0, "axis of the ramp"),
+             pInt("repeats", 1, 256, 1, "ramps per unit"),
+             pChoice("shape", {"saw", "triangle"}, 1, "ramp shape")}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, dir = c.I(kDir), rep = c.I(kRepeats), tri = c.I(kShape);
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      for (int x = 0; x < n; ++x) {
+        const T t = fracT((dir == 0 ? uCoord<T>(x, n) : vCoord<T>(y, n)) * T(rep));
+        o[x] = tri ? T(1) - std::abs(T(2) * t - T(1)) : t;
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>&) {}
+};
+
+struct GradientRadial {
+  enum { kCount, kRadius };
+  static NodeTypeDesc desc() {
+    return {"gradient_radial",
+            "1 at the center of each of count x count cells falling linearly to 0 at `radius` "
+            "(1 = the cell's edge midpoint).",
+            {},
+            {{"out", 1}},
+            {pInt("count", 1, 256, 1, "cells per unit"),
+             pCont("radius", 0.05f, 1.5f, 1.f, "radius where the value reaches 0")}};
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount);
+    const T rad = c.P(kRadius);
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
+      for (int x = 0; x < n; ++x) {
+        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
+        o[x] = clamp01(T(1) - T(2) * std::sqrt(lx * lx + ly * ly) / rad);
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount);
+    const T rad = c.P(kRadius);
+    T acc = 0;
+    for (int y = 0; y < n; ++y) {
+      const T* g = c.dOut[0]->row(y);
+      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
+      for (int x = 0; x < n; ++x) {
+        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
+        const T r = T(2) * std::sqrt(lx * lx + ly * ly);
+        const T z = T(1) - r / rad;
+        if (z > 0 && z < 1) acc += g[x] * r / (rad * rad);
+      }
+    }
+    c.dP(kRadius) += acc;
+  }
+};
+
+// ---------------------------------------------------------------- stripes / checker / shape
+struct Stripes {
+  enum { kCount, kDir, kWidth, kSoft };
+  static NodeTypeDesc desc() {
+    return {"stripes",
+            "Parallel stripes, `count` per unit; the phase runs along u (vertical stripes), v "
+            "(horizontal), u+v or u-v (diagonals); 1 on the stripe, 0 between, linear edges.",
+            {},
+            {{"out", 1}},
+            {pInt("count", 1, 512, 8, "stripes per unit"),
+             pChoice("direction", {"u", "v", "diagonal", "antidiagonal"}, 0, "phase direction"),
+             pCont("width", 0, 1, 0.5f, "stripe width as a fraction of the period"),
+             pCont("softness", 0.002f, 0.5f, 0.05f, "edge ramp width as a fraction of the period")}};
+  }
+  template <class T>
+  static T phase(int dir, T u, T v) {
+    switch (dir) {
+      case 0: return u;
+      case 1: return v;
+      case 2: return u + v;
+      default: return u - v;
+    }
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount), dir = c.I(kDir);
+    const T w = c.P(kWidth), s = c.P(kSoft);
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const T v = vCoord<T>(y, n);
+      for (int x = 0; x < n; ++x) {
+        const T e = std::abs(fracT(phase(dir, uCoord<T>(x, n), v) * T(cnt)) - T(0.5));
+        o[x] = clamp01((T(0.5) * w - e) / s + T(0.5));
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount), dir = c.I(kDir);
+    const T w = c.P(kWidth), s = c.P(kSoft);
+    T dw = 0, ds = 0;
+    for (int y = 0; y < n; ++y) {
+      const T* g = c.dOut[0]->row(y);
+      const T v = vCoord<T>(y, n);
+      for (int x = 0; x < n; ++x) {
+        const T e = std::abs(fracT(phase(dir, uCoord<T>(x, n), v) * T(cnt)) - T(0.5));
+        const T z = (T(0.5) * w - e) / s + T(0.5);
+        if (z > 0 && z < 1) {
+          dw += g[x] * T(0.5) / s;
+          ds -= g[x] * (T(0.5) * w - e) / (s * s);
+        }
+      }
+    }
+    c.dP(kWidth) += dw;
+    c.dP(kSoft) += ds;
+  }
+};
+
+struct Checker {
+  enum { kCount, kSoft };
+  static NodeTypeDesc desc() {
+    return {"checker", "A checkerboard of count x count squares (1 and 0), soft edges.", {},
+            {{"out", 1}},
+            {pInt("count", 1, 512, 8, "squares per unit"),
+             pCont("softness", 0.002f, 0.5f, 0.02f, "edge ramp as a fraction of a square")}};
+  }
+  template <class T>
+  static T signedEdge(T x) {  // distance to the nearest transition, + in first half
+    const T w = fracT(x);
+    return w < T(0.5) ? std::min(w, T(0.5) - w) : -std::min(w - T(0.5), T(1) - w);
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount);
+    const T s = c.P(kSoft);
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const T sv = std::clamp(signedEdge(vCoord<T>(y, n) * T(cnt)) / s, T(-1), T(1));
+      for (int x = 0; x < n; ++x) {
+        const T su = std::clamp(signedEdge(uCoord<T>(x, n) * T(cnt)) / s, T(-1), T(1));
+        o[x] = T(0.5) + T(0.5) * su * sv;
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount);
+    const T s = c.P(kSoft);
+    T acc = 0;
+    for (int y = 0; y < n; ++y) {
+      const T* g = c.dOut[0]->row(y);
+      const T ev = signedEdge(vCoord<T>(y, n) * T(cnt));
+      const T sv = std::clamp(ev / s, T(-1), T(1));
+      const T dsv = std::abs(ev / s) < 1 ? -ev / (s * s) : T(0);
+      for (int x = 0; x < n; ++x) {
+        const T eu = signedEdge(uCoord<T>(x, n) * T(cnt));
+        const T su = std::clamp(eu / s, T(-1), T(1));
+        const T dsu = std::abs(eu / s) < 1 ? -eu / (s * s) : T(0);
+        acc += g[x] * T(0.5) * (dsu * sv + su * dsv);
+      }
+    }
+    c.dP(kSoft) += acc;
+  }
+};
+
+struct Shape {
+  enum { kCount, kShape, kSize, kSoft };
+  static NodeTypeDesc desc() {
+    return {"shape",
+            "One shape centered in each of count x count cells: disc, square (1 inside, linear "
+            "edge) or bell (raised cosine, 1 at the center, 0 at radius size/2).",
+            {},
+            {{"out", 1}},
+            {pInt("count", 1, 256, 4, "cells per unit"),
+             pChoice("shape", {"disc", "square", "bell"}, 0, "the shape"),
+             pCont("size", 0.01f, 1.f, 0.6f, "diameter / side as a fraction of the cell"),
+             pCont("softness", 0.002f, 0.5f, 0.05f, "edge ramp as a fraction of the cell")}};
+  }
+  template <class T>
+  static T radius(int shape, T lx, T ly) {
+    return shape == 1 ? std::max(std::abs(lx), std::abs(ly)) : std::sqrt(lx * lx + ly * ly);
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount), sh = c.I(kShape);
+    const T size = c.P(kSize), s = c.P(kSoft);
+    forRows(n, [&](int y) {
+      T* o = c.out[0]->row(y);
+      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
+      for (int x = 0; x < n; ++x) {
+        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
+        const T r = radius(sh, lx, ly);
+        if (sh == 2) {
+          const T q = std::min(r / (T(0.5) * size), T(1));
+          o[x] = T(0.5) + T(0.5) * std::cos(T(M_PI) * q);
+        } else {
+          o[x] = clamp01((T(0.5) * size - r) / s + T(0.5));
+        }
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n, cnt = c.I(kCount), sh = c.I(kShape);
+    const T size = c.P(kSize), s = c.P(kSoft);
+    T dsize = 0, dsoft = 0;
+    for (int y = 0; y < n; ++y) {
+      const T* g = c.dOut[0]->row(y);
+      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
+      for (int x = 0; x < n; ++x) {
+        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
+        const T r = radius(sh, lx, ly);
+        if (sh == 2) {
+          const T q = r / (T(0.5) * size);
+          if (q < 1) dsize += g[x] * (-T(0.5) * T(M_PI) * std::sin(T(M_PI) * q)) * (-q / size);
+        } else {
+          const T z = (T(0.5) * size - r) / s + T(0.5);
+          if (z > 0 && z < 1) {
+            dsize += g[x] * T(0.5) / s;
+            dsoft -= g[x] * (T(0.5) * size - r) / (s * s);
+          }
+        }
+      }
+    }
+    c.dP(kSize) += dsize;
+    c.dP(kSoft) += dsoft;
+  }
+};
+
+// ---------------------------------------------------------------- tiles and herringbone
+/// Bevel profile of a tile from the distance d to its nearest edge: smoothstep((d - gap/2)/bevel).
+template <class T>
+struct Bevel {
+  T h, dGap, dBevel, dD;  // value and partials
+  Bevel(T d, T gap, T bevel) {
+    const T t = (d - T(0.5) * gap) / bevel;
+    if (t <= 0) {
+      h = 0, dGap = dBevel = dD = 0;
+    } else if (t >= 1) {
+      h = 1, dGap = dBevel = dD = 0;
+    } else {
+      h = smooth3(t);
+      const T s = smooth3d(t);
+      dD = s / bevel;
+      dGap = -T(0.5) * s / bevel;
+      dBevel = -s * t / bevel;
+    }
+  }
+};
+
+/// Shared output layout of tile-like nodes: height, random, sampled (pattern with a per-tile
+/// offset; transposed when `transpose`).
+template <class T>
+inline void writeSampled(NodeCtx<T>& c, int x, int y, int sx, int sy, bool transpose) {
+  Plane<T>& o = *c.out[2];
+  const int m = c.n - 1;
+  T* dst = o.ptr(x, y);
+  if (!c.in[0]) {
+    for (int k = 0; k < o.c; ++k) dst[k] = 0;
+    return;
+  }
+  const Plane<T>& p = *c.in[0];
+  const int px = transpose ? (y + sx) & m : (x + sx) & m;
+  const int py = transpose ? (x + sy) & m : (y + sy) & m;
+  const T* src = p.ptr(px, py);
+  for (int k = 0; k < o.c; ++k) dst[k] = src[p.c == 1 ? 0 : k];
+}
+template <class T>
+inline void scatterSampled(NodeCtx<T>& c, int x, int y, int sx, int sy, bool transpose) {
+  if (!c.in[0] || !c.dIn[0]) return;
+  Plane<T>& p = *c.dIn[0];
+  const int m = c.n - 1;
+  const int px = transpose ? (y + sx) & m : (x + sx) & m;
+  const int py = transpose ? (x + sy) & m : (y + sy) & m;
+  const T* g = c.dOut[2]->ptr(x, y);
+  T* dst = p.ptr(px, py);
+  for (int k = 0; k < c.dOut[2]->c; ++k) dst[p.c == 1 ? 0 : k] += g[k];
+}
+
+struct Tile {
+  enum { kLayout, kRows, kCols, kRowOffset, kGap, kBevel, kLumVar, kSeed };
+  static NodeTypeDesc desc() {
+    return {"tile",
+            "Tile generator: rows x cols tiles (bricks: every other row shifted by row_offset; "
+            "grid: no shift; planks: each row shifted by a random fraction of row_offset). "
+            "Outputs the bevelled height (0 in the gap, 1 on the tile), a per-tile random value "
+            "0.5 + lum_var (r - 0.5), and the optional `pattern` input shifted by a random offset "
+            "per tile. gap and bevel are in units of the tile height.",
+            {{"pattern", 0, true}},
+            {{"height", 1}, {"random", 1}, {"sampled", 0}},
+            {pChoice("layout", {"bricks", "grid", "planks"}, 0, "row layout"),
+             pInt("rows", 1, 128, 8, "rows per unit (bricks: rounded up to even)"),
+             pInt("cols", 1, 128, 4, "tiles per row per unit"),
+             pCont("row_offset", 0, 1, 0.5f, "row shift as a fraction of a tile length"),
+             pCont("gap", 0, 0.5f, 0.06f, "gap (mortar, grout) width"),
+             pCont("bevel", 0.005f, 0.5f, 0.06f, "bevel width"),
+             pCont("lum_var", 0, 1, 0.3f, "per-tile random value spread"), pSeed()}};
+  }
+  template <class T>
+  struct Geo {
+    int row, col;
+    T dx, dy, dShift, sgn, aspect;
+  };
+  template <class T>
+  static Geo<T> locate(const NodeCtx<T>& c, int x, int y) {
+    const int layout = c.I(kLayout), C = c.I(kCols);
+    int R = c.I(kRows);
+    if (layout == 0 && (R & 1)) ++R;
+    const T ro = c.P(kRowOffset);
+    Geo<T> g;
+    const T yt = vCoord<T>(y, c.n) * T(R);
+    g.row = std::min(R - 1, int(yt));
+    const T fy = yt - T(g.row);
+    g.dShift = layout == 0 ? T(g.row & 1) : layout == 2 ? T(hashf(g.row, 17, c.I(kSeed))) : T(0);
+    const T xt = uCoord<T>(x, c.n) * T(C) + ro * g.dShift;
+    const T cf = std::floor(xt);
+    const T fx = xt - cf;
+    g.col = wrapi(int(cf), C);
+    g.aspect = T(R) / T(C);
+    g.sgn = fx < T(0.5) ? T(1) : T(-1);
+    g.dx = std::min(fx, T(1) - fx) * g.aspect;
+    g.dy = std::min(fy, T(1) - fy);
+    return g;
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n;
+    const uint32_t seed = uint32_t(c.I(kSeed));
+    const T gap = c.P(kGap), bevel = c.P(kBevel), lv = c.P(kLumVar);
+    forRows(n, [&](int y) {
+      for (int x = 0; x < n; ++x) {
+        const Geo<T> g = locate(c, x, y);
+        c.out[0]->at(x, y) = Bevel<T>(std::min(g.dx, g.dy), gap, bevel).h;
+        c.out[1]->at(x, y) = T(0.5) + lv * (T(hashf(g.col, g.row, seed)) - T(0.5));
+        writeSampled(c, x, y, int(hashf(g.col, g.row, seed + 1) * float(n)),
+                     int(hashf(g.col, g.row, seed + 2) * float(n)), false);
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n;
+    const uint32_t seed = uint32_t(c.I(kSeed));
+    const T gap = c.P(kGap), bevel = c.P(kBevel);
+    T dg = 0, db = 0, dro = 0, dlv = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const Geo<T> g = locate(c, x, y);
+        const T gh = c.dOut[0]->at(x, y), gr = c.dOut[1]->at(x, y);
+        if (gh != 0) {
+          const Bevel<T> b(std::min(g.dx, g.dy), gap, bevel);
+          dg += gh * b.dGap;
+          db += gh * b.dBevel;
+          if (g.dx < g.dy) dro += gh * b.dD * g.sgn * g.aspect * g.dShift;
+        }
+        dlv += gr * (T(hashf(g.col, g.row, seed)) - T(0.5));
+        scatterSampled(c, x, y, int(hashf(g.col, g.row, seed + 1) * float(n)),
+                       int(hashf(g.col, g.row, seed + 2) * float(n)), false);
+      }
+    c.dP(kGap) += dg;
+    c.dP(kBevel) += db;
+    c.dP(kRowOffset) += dro;
+    c.dP(kLumVar) += dlv;
+  }
+};
+
+struct Herringbone {
+  enum { kCount, kRatio, kGap, kBevel, kLumVar, kSeed };
+  static NodeTypeDesc desc() {
+    return {"herringbone",
+            "Herringbone parquet of 1 x ratio planks (horizontal and vertical in a staircase), "
+            "repeated count x count times per unit. Outputs as `tile`; the `pattern` input is "
+            "transposed on vertical planks so a grain along u follows every plank. gap and bevel "
+            "are in units of the plank width.",
+            {{"pattern", 0, true}},
+            {{"height", 1}, {"random", 1}, {"sampled", 0}},
+            {pInt("count", 1, 32, 2, "pattern repeats per unit"),
+             pInt("ratio", 2, 8, 4, "plank length / width"),
+             pCont("gap", 0, 0.5f, 0.04f, "gap width"),
+             pCont("bevel", 0.005f, 0.5f, 0.08f, "bevel width"),
+             pCont("lum_var", 0, 1, 0.3f, "per-plank random value spread"), pSeed()}};
+  }
+  template <class T>
+  struct Geo {
+    T d;
+    int a, b, vertical;
+  };
+  template <class T>
+  static Geo<T> locate(const NodeCtx<T>& c, int x, int y) {
+    const int L = c.I(kRatio), cnt = c.I(kCount);
+    const T P = T(2 * L * cnt);
+    const T px = uCoord<T>(x, c.n) * P, py = vCoord<T>(y, c.n) * P;
+    Geo<T> g;
+    // horizontal plank [ox, ox+L] x [oy, oy+1], origin o = a (1,1) + b (L,-L)
+    const int m = int(std::floor(py));
+    int b = int(std::floor((px - T(m)) / T(2 * L)));
+    int ox = m + 2 * b * L, oy = m;
+    if (px - T(ox) <= T(L)) {
+      g.vertical = 0;
+      g.d = std::min(std::min(px - T(ox), T(ox + L) - px), std::min(py - T(oy), T(oy + 1) - py));
+    } else {
+      // vertical plank [ox+L, ox+L+1] x [oy+1-L, oy+1]
+      const int k = int(std::floor(px));
+      ox = k - L;
+      b = int(std::ceil((T(k - 2 * L + 1) - py) / T(2 * L)));
+      oy = ox - 2 * b * L;
+      g.vertical = 1;
+      g.d = std::min(std::min(px - T(ox + L), T(ox + L + 1) - px),
+                     std::min(py - T(oy + 1 - L), T(oy + 1) - py));
+      g.d = std::max(g.d, T(0));
+    }
+    int a = (ox + oy) / 2;
+    b = (ox - oy) / (2 * L);
+    int bb = wrapi(b, 2 * cnt);
+    if (bb >= cnt) {
+      bb -= cnt;
+      a -= cnt * L;
+    }
+    g.a = wrapi(a, 2 * cnt * L);
+    g.b = bb;
+    return g;
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n;
+    const uint32_t seed = uint32_t(c.I(kSeed)) * 2u;
+    const T gap = c.P(kGap), bevel = c.P(kBevel), lv = c.P(kLumVar);
+    forRows(n, [&](int y) {
+      for (int x = 0; x < n; ++x) {
+        const Geo<T> g = locate(c, x, y);
+        const uint32_t sd = seed + g.vertical;
+        c.out[0]->at(x, y) = Bevel<T>(g.d, gap, bevel).h;
+        c.out[1]->at(x, y) = T(0.5) + lv * (T(hashf(g.a, g.b, sd)) - T(0.5));
+        writeSampled(c, x, y, int(hashf(g.a, g.b, sd + 11) * float(n)),
+                     int(hashf(g.a, g.b, sd + 13) * float(n)), g.vertical);
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    const int n = c.n;
+    const uint32_t seed = uint32_t(c.I(kSeed)) * 2u;
+    const T gap = c.P(kGap), bevel = c.P(kBevel);
+    T dg = 0, db = 0, dlv = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const Geo<T> g = locate(c, x, y);
+        const uint32_t sd = seed + g.vertical;
+        const T gh = c.dOut[0]->at(x, y);
+        if (gh != 0) {
+          const Bevel<T> b(g.d, gap, bevel);
+          dg += gh * b.dGap;
+          db += gh * b.dBevel;
+        }
+        dlv += c.dOut[1]->at(x, y) * (T(hashf(g.a, g.b, sd)) - T(0.5));
+        scatterSampled(c, x, y, int(hashf(g.a, g.b, sd + 11) * float(n)),
+                       int(hashf(g.a, g.b, sd + 13) * float(n)), g.vertical);
+      }
+    c.dP(kGap) += dg;
+    c.dP(kBevel) += db;
+    c.dP(kLumVar) += dlv;
+  }
+};
+
+// ---------------------------------------------------------------- weave
+struct Weave {
+  enum { kCount, kPattern, kWidth, kSeed };
+  static NodeTypeDesc desc() {
+    return {"weave",
+            "Woven threads, count per unit each way: warp threads run along v, weft along u. "
+            "Outputs the thread height (0.5 + 0.5 sin arch on top, 0.5 below, parabolic "
+            "cross-section), a mask that is 1 where the warp is on top, and a per-thread random "
+            "value.",
+            {},
+            {{"height", 1}, {"warp", 1}, {"random", 1}},
+            {pInt("count", 2, 512, 32, "threads per unit (rounded up to the pattern period)"),
+             pChoice("pattern", {"plain", "twill_2_2", "twill_3_1", "basket_2_2"}, 0, "weave"),
+             pCont("width", 0.3f, 1.f, 0.85f, "thread width as a fraction of the spacing"),
+             pSeed()}};
+  }
+  static bool warpTop(int pattern, int i, int j) {
+    switch (pattern) {
+      case 0: return ((i + j) & 1) == 0;
+      case 1: return wrapi(i + j, 4) < 2;
+      case 2: return wrapi(i + j, 4) < 3;
+      default: return (((i >> 1) + (j >> 1)) & 1) == 0;
+    }
+  }
+  template <class T>
+  struct Eval {
+    T h, dh;  // height, d height / d width
+    bool warp;
+    int i, j;
+  };
+  template <class T>
+  static Eval<T> eval(const NodeCtx<T>& c, int x, int y) {
+    const int pat = c.I(kPattern);
+    const int period = pat == 0 ? 2 : 4;
+    const int N = (c.I(kCount) + period - 1) / period * period;
+    const T w = c.P(kWidth);
+    const T uu = uCoord<T>(x, c.n) * T(N), vv = vCoord<T>(y, c.n) * T(N);
+    Eval<T> e;
+    e.i = std::min(N - 1, int(uu));
+    e.j = std::min(N - 1, int(vv));
+    const T fx = uu - T(e.i), fy = vv - T(e.j);
+    const bool top = warpTop(pat, e.i, e.j);
+    auto prof = [&](T f, T& d) {
+      const T q = (f - T(0.5)) / (T(0.5) * w);
+      const T a = T(1) - q * q;
+      if (a <= 0) {
+        d = 0;
+        return T(0);
+      }
+      d = T(8) * (f - T(0.5)) * (f - T(0.5)) / (w * w * w);
+      return a;
+    };
+    T daW, daF;
+    const T aW = prof(fx, daW), aF = prof(fy, daF);
+    const T bW = top ? T(0.5) + T(0.5) * std::sin(T(M_PI) * fy) : T(0.5);
+    const T bF = top ? T(0.5) : T(0.5) + T(0.5) * std::sin(T(M_PI) * fx);
+    const T hW = aW * bW, hF = aF * bF;
+    e.warp = hW >= hF;
+    e.h = e.warp ? hW : hF;
+    e.dh = e.warp ? daW * bW : daF * bF;
+    return e;
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const uint32_t seed = uint32_t(c.I(kSeed));
+    forRows(c.n, [&](int y) {
+      for (int x = 0; x < c.n; ++x) {
+        const Eval<T> e = eval(c, x, y);
+        c.out[0]->at(x, y) = e.h;
+        c.out[1]->at(x, y) = e.warp ? T(1) : T(0);
+        c.out[2]->at(x, y) = e.warp ? hashf(e.i, 0, seed) : hashf(e.j, 1, seed);
+      }
+    });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    T acc = 0;
+    for (int y = 0; y < c.n; ++y)
+      for (int x = 0; x < c.n; ++x) {
+        const T g = c.dOut[0]->at(x, y);
+        if (g != 0) acc += g * eval(c, x, y).dh;
+      }
+    c.dP(kWidth) += acc;
+  }
+};
+
+}  // namespace
+
+void addGeneratorNodes(std::vector<NodeType>& out) {
+  out.push_back(makeNodeType<UniformGray>());
+  out.push_back(makeNodeType<UniformColor>());
+  out.push_back(makeNodeType<Fbm>());
+  out.push_back(makeNodeType<ValueNoise>());
+  out.push_back(makeNodeType<WhiteNoise>());
+  out.push_back(makeNodeType<Voronoi>());
+  out.push_back(makeNodeType<GradientLinear>());
+  out.push_back(makeNodeType<GradientRadial>());
+  out.push_back(makeNodeType<Stripes>());
+  out.push_back(makeNodeType<Checker>());
+  out.push_back(makeNodeType<Shape>());
+  out.push_back(makeNodeType<Tile>());
+  out.push_back(makeNodeType<Herringbone>());
+  out.push_back(makeNodeType<Weave>());
+}
+
+}  // namespace ps::graphimpl

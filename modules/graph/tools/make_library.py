@@ -1,0 +1,888 @@
+#!/usr/bin/env python3
+"""Writes the graph library (modules/graph/library/*.json) from compact Python descriptions.
+
+The JSON files are the data the engine reads (format: ../FORMAT.md); this script is only a
+convenience for maintainers. Users add graphs by writing JSON directly.
+Run: python3 modules/graph/tools/make_library.py
+"""
+import json, os
+
+OUT = os.path.join(os.path.dirname(__file__), '..', 'library')
+GRAPHS = []
+
+
+class G:
+    def __init__(self, name, category, description):
+        self.name, self.category, self.description = name, category, description
+        self.nodes, self.params, self.outputs = [], [], {}
+
+    def n(self, id, type, inputs=None, **params):
+        node = {'id': id, 'type': type}
+        if params:
+            node['params'] = params
+        if inputs:
+            node['inputs'] = inputs
+        self.nodes.append(node)
+        return id
+
+    def p(self, name, *targets, doc='', **kw):
+        d = {'name': name, 'targets': list(targets)}
+        if doc:
+            d['doc'] = doc
+        d.update(kw)
+        self.params.append(d)
+
+    def out(self, **o):
+        self.outputs.update(o)
+
+    def done(self):
+        GRAPHS.append(self)
+
+    def json(self):
+        return {'name': self.name, 'category': self.category, 'description': self.description,
+                'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
+
+
+def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None):
+    g.n('nrm', 'normal', {'height': height}, intensity=normal_intensity)
+    g.p('normal_strength', 'nrm.intensity', doc='relief strength', min=0.0, max=0.1)
+    g.out(albedo=albedo, normal='nrm', roughness=rough, height=height)
+    if metallic:
+        g.out(metallic=metallic)
+    g.done()
+
+
+def rough_from(g, src, lo, hi, id='rough'):
+    g.n(id, 'levels', {'in': src}, out_low=lo, out_high=hi)
+    g.p('roughness_min', id + '.out_low', min=0.0, max=1.0)
+    g.p('roughness_max', id + '.out_high', min=0.0, max=1.0)
+    return id
+
+
+def colors3(g, id, src, c0, c1, c2, pos=0.5, prefix='color'):
+    g.n(id, 'gradient_map', {'in': src}, color_0=c0, color_1=c1, color_2=c2, position=pos)
+    g.p(prefix + '_dark', id + '.color_0', doc='ramp color at 0')
+    g.p(prefix + '_mid', id + '.color_1', doc='ramp color at the midpoint')
+    g.p(prefix + '_light', id + '.color_2', doc='ramp color at 1')
+    return id
+
+
+# ---------------------------------------------------------------- wood
+def wood_grain(g, rings=36, seed=1, warp=0.05, fiber=0.35):
+    """Gray grain along u: soft stripes across v, wavy, with fine fibers."""
+    g.n('ring', 'stripes', count=rings, direction='v', width=0.35, softness=0.35)
+    g.n('wave', 'fbm', scale_x=1, scale_y=3, octaves=4, roughness=0.55, seed=seed)
+    g.n('wavy', 'directional_warp', {'in': 'ring', 'height': 'wave'}, intensity=warp, angle=0.25)
+    g.n('fib', 'fbm', scale_x=4, scale_y=96, octaves=3, roughness=0.6, seed=seed + 7)
+    g.n('grain', 'blend', {'fg': 'fib', 'bg': 'wavy'}, mode='overlay', opacity=fiber)
+    g.p('ring_waviness', 'wavy.intensity', min=0.0, max=0.12)
+    g.p('ring_width', 'ring.width', min=0.1, max=0.8)
+    g.p('fiber_strength', 'grain.opacity', min=0.0, max=1.0)
+    return 'grain'
+
+
+def wood_colors(g, src, light=(0.45, 0.26, 0.12), mid=(0.30, 0.15, 0.06), dark=(0.16, 0.07, 0.025)):
+    return colors3(g, 'wcol', src, list(dark), list(mid), list(light), 0.5, 'wood')
+
+
+def wood_planks(name, rows, cols, layout, col, seed, desc):
+    g = G(name, 'wood', desc)
+    grain = wood_grain(g, seed=seed)
+    g.n('tiles', 'tile', {'pattern': grain}, layout=layout, rows=rows, cols=cols, row_offset=0.5 if layout == 'bricks' else 0.9,
+        gap=0.02, bevel=0.03, lum_var=0.5, seed=seed)
+    g.p('plank_gap', 'tiles.gap', min=0.0, max=0.1)
+    g.p('plank_bevel', 'tiles.bevel', min=0.005, max=0.2)
+    g.p('plank_rows', 'tiles.rows', min=2, max=24)
+    g.p('row_offset', 'tiles.row_offset')
+    g.p('plank_variation', 'tiles.lum_var')
+    c = wood_colors(g, 'tiles.sampled', *col)
+    g.n('tint', 'blend', {'fg': 'tiles.random', 'bg': c}, mode='overlay', opacity=0.5)
+    g.p('plank_tint', 'tint.opacity', doc='per-plank brightness variation')
+    g.n('gap_dark', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply', opacity=1.0)
+    g.n('gapm', 'invert', {'in': 'tiles.height'})
+    g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
+    g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
+    r = rough_from(g, grain, 0.5, 0.38)
+    finish(g, 'h', r, 'gap_dark', 0.01)
+
+
+wood_planks('wood_planks', 8, 2, 'planks', ((0.50, 0.30, 0.14), (0.34, 0.18, 0.07), (0.18, 0.08, 0.03)), 1,
+            'Oak-like floor planks with random row offsets, grain following each plank.')
+wood_planks('wood_planks_dark', 6, 1, 'planks', ((0.20, 0.10, 0.05), (0.12, 0.06, 0.03), (0.06, 0.03, 0.015)), 5,
+            'Dark walnut-like wide planks.')
+wood_planks('wood_planks_light', 10, 3, 'bricks', ((0.70, 0.52, 0.32), (0.58, 0.40, 0.22), (0.40, 0.26, 0.12)), 9,
+            'Light maple/pine planks in a regular running bond.')
+
+
+def parquet_herringbone():
+    g = G('wood_parquet_herringbone', 'wood', 'Herringbone parquet; the grain turns with every plank.')
+    grain = wood_grain(g, rings=48, seed=3, warp=0.03)
+    g.n('hb', 'herringbone', {'pattern': grain}, count=2, ratio=4, gap=0.04, bevel=0.06, lum_var=0.6, seed=4)
+    g.p('plank_ratio', 'hb.ratio')
+    g.p('repeats', 'hb.count', min=1, max=6)
+    g.p('plank_gap', 'hb.gap', min=0.0, max=0.2)
+    g.p('plank_bevel', 'hb.bevel', min=0.005, max=0.3)
+    c = wood_colors(g, 'hb.sampled', (0.52, 0.32, 0.15), (0.36, 0.19, 0.08), (0.2, 0.09, 0.035))
+    g.n('tint', 'blend', {'fg': 'hb.random', 'bg': c}, mode='overlay', opacity=0.5)
+    g.p('plank_tint', 'tint.opacity')
+    g.n('gapm', 'invert', {'in': 'hb.height'})
+    g.n('gapc', 'uniform_color', color=[0.3, 0.25, 0.2])
+    g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply')
+    g.n('h', 'blend', {'fg': grain, 'bg': 'hb.height'}, mode='multiply', opacity=0.15)
+    r = rough_from(g, grain, 0.45, 0.35)
+    finish(g, 'h', r, 'alb', 0.01)
+
+
+parquet_herringbone()
+
+
+def parquet_grid():
+    g = G('wood_parquet_checker', 'wood', 'Basket parquet: square blocks alternating the grain direction.')
+    grain = wood_grain(g, rings=64, seed=11, warp=0.02)
+    g.n('rot', 'transform', {'in': grain}, rotation='90')
+    g.n('chk', 'checker', count=6, softness=0.005)
+    g.n('mix', 'blend', {'fg': 'rot', 'bg': grain, 'mask': 'chk'})
+    g.n('tiles', 'tile', {'pattern': 'mix'}, layout='grid', rows=6, cols=6, gap=0.02, bevel=0.04, lum_var=0.5, seed=12)
+    g.p('block_gap', 'tiles.gap', min=0.0, max=0.1)
+    g.p('block_bevel', 'tiles.bevel', min=0.005, max=0.2)
+    g.p('block_variation', 'tiles.lum_var')
+    c = wood_colors(g, 'mix', (0.55, 0.36, 0.18), (0.40, 0.23, 0.10), (0.22, 0.11, 0.04))
+    g.n('tint', 'blend', {'fg': 'tiles.random', 'bg': c}, mode='overlay', opacity=0.4)
+    g.p('block_tint', 'tint.opacity')
+    g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
+    r = rough_from(g, grain, 0.45, 0.35)
+    finish(g, 'h', r, 'tint', 0.01)
+
+
+parquet_grid()
+
+
+def veneer():
+    g = G('wood_veneer', 'wood', 'Continuous wood veneer (furniture, doors): flowing grain, satin finish.')
+    grain = wood_grain(g, rings=20, seed=21, warp=0.09, fiber=0.3)
+    c = wood_colors(g, grain, (0.62, 0.40, 0.20), (0.46, 0.26, 0.11), (0.28, 0.13, 0.05))
+    g.n('hsl', 'hsl', {'in': c})
+    g.p('hue_shift', 'hsl.hue', min=-0.1, max=0.1)
+    g.p('saturation', 'hsl.saturation', min=0.5, max=1.5)
+    r = rough_from(g, grain, 0.35, 0.25)
+    g.n('h', 'levels', {'in': grain}, out_low=0.4, out_high=0.6)
+    finish(g, 'h', r, 'hsl', 0.005)
+
+
+veneer()
+
+
+def painted_wood():
+    g = G('wood_painted', 'wood', 'Painted wooden boards: paint color over faint grain and plank seams.')
+    grain = wood_grain(g, rings=30, seed=31, warp=0.05, fiber=0.5)
+    g.n('tiles', 'tile', {'pattern': grain}, layout='grid', rows=1, cols=6, gap=0.005, bevel=0.01, lum_var=0.1, seed=32)
+    g.p('board_count', 'tiles.cols', min=2, max=16)
+    g.p('board_gap', 'tiles.gap', min=0.0, max=0.05)
+    g.n('rot', 'transform', {'in': 'tiles.sampled'}, rotation='90')
+    g.n('paint', 'uniform_color', color=[0.55, 0.62, 0.58])
+    g.p('paint_color', 'paint.color')
+    g.n('shade', 'levels', {'in': 'rot'}, out_low=0.85, out_high=1.0)
+    g.p('grain_show_through', 'shade.out_low', min=0.5, max=1.0)
+    g.n('alb0', 'blend', {'fg': 'shade', 'bg': 'paint'}, mode='multiply')
+    g.n('gapm', 'invert', {'in': 'tiles.height'})
+    g.n('alb', 'blend', {'fg': 'gapm', 'bg': 'alb0'}, mode='subtract', opacity=0.5)
+    g.n('h', 'blend', {'fg': 'rot', 'bg': 'tiles.height'}, mode='multiply', opacity=0.1)
+    g.n('h2', 'transform', {'in': 'h'}, rotation='90')
+    r = rough_from(g, 'rot', 0.45, 0.3)
+    finish(g, 'h', r, 'alb', 0.01)
+
+
+painted_wood()
+
+# ---------------------------------------------------------------- tiles
+def tile_graph(name, desc, layout, rows, cols, tile_col, grout_col, gap, bevel, var, rough=(0.12, 0.2), noise_scale=4,
+               category='tile', shape_mask=None):
+    g = G(name, category, desc)
+    g.n('t', 'tile', layout=layout, rows=rows, cols=cols, row_offset=0.5, gap=gap, bevel=bevel, lum_var=var, seed=3)
+    g.p('rows', 't.rows', min=max(1, rows // 3), max=rows * 3)
+    g.p('cols', 't.cols', min=max(1, cols // 3), max=cols * 3)
+    g.p('grout_width', 't.gap', min=0.0, max=0.3)
+    g.p('bevel', 't.bevel', min=0.005, max=0.3)
+    g.p('tile_variation', 't.lum_var')
+    g.n('cloud', 'fbm', scale_x=noise_scale, scale_y=noise_scale, octaves=5, roughness=0.5, seed=5)
+    g.n('var', 'blend', {'fg': 'cloud', 'bg': 't.random'}, mode='overlay', opacity=0.3)
+    g.p('surface_mottling', 'var.opacity')
+    g.n('tc', 'gradient_map', {'in': 'var'}, color_0=[c * 0.8 for c in tile_col], color_1=tile_col,
+        color_2=[min(1.0, c * 1.15) for c in tile_col], position=0.5)
+    g.p('tile_color', 'tc.color_1')
+    g.p('tile_color_dark', 'tc.color_0')
+    g.n('gc', 'uniform_color', color=grout_col)
+    g.p('grout_color', 'gc.color')
+    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 't.height'})
+    g.n('gn', 'fbm', scale_x=32, scale_y=32, octaves=3, roughness=0.5, seed=9)
+    g.n('h', 'blend', {'fg': 'gn', 'bg': 't.height'}, mode='multiply', opacity=0.05)
+    g.n('rm', 'blend', {'fg': 't.height', 'bg': 'gn'}, mode='copy', opacity=0.9)
+    g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=rough[0])
+    g.p('roughness_grout', 'rough.out_low')
+    g.p('roughness_tile', 'rough.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.01)
+
+
+tile_graph('tile_square_ceramic', 'Square glazed ceramic tiles with light grout.', 'grid', 6, 6,
+           [0.78, 0.78, 0.76], [0.55, 0.53, 0.5], 0.05, 0.05, 0.15)
+tile_graph('tile_subway', 'White subway tiles (2:1) in running bond with grey grout.', 'bricks', 16, 8,
+           [0.85, 0.86, 0.85], [0.35, 0.35, 0.35], 0.08, 0.15, 0.1)
+tile_graph('tile_large_porcelain', 'Large-format matte porcelain floor tiles, thin grout.', 'grid', 2, 2,
+           [0.55, 0.53, 0.5], [0.35, 0.34, 0.32], 0.015, 0.02, 0.2, rough=(0.5, 0.6))
+tile_graph('tile_terracotta', 'Terracotta floor tiles, warm and uneven.', 'grid', 4, 4,
+           [0.55, 0.22, 0.1], [0.45, 0.42, 0.38], 0.07, 0.08, 0.6, rough=(0.6, 0.7))
+tile_graph('tile_mosaic', 'Small square glass mosaic with varied blue-green tiles.', 'grid', 24, 24,
+           [0.18, 0.42, 0.5], [0.7, 0.7, 0.68], 0.12, 0.12, 0.8, rough=(0.08, 0.15), noise_scale=2)
+tile_graph('tile_checker', 'Black and white checker floor tiles.', 'grid', 8, 8,
+           [0.5, 0.5, 0.5], [0.4, 0.4, 0.4], 0.03, 0.04, 0.0)
+
+
+def hex_tiles():
+    g = G('tile_hexagon', 'tile', 'Hexagon-like penny mosaic: discs of glazed tile in grout (offset rows).')
+    g.n('d1', 'shape', count=12, shape='disc', size=0.9, softness=0.06)
+    g.n('d2', 'transform', {'in': 'd1'}, offset_u=0.0416667, offset_v=0.0416667)
+    g.n('d', 'blend', {'fg': 'd1', 'bg': 'd2'}, mode='max')
+    g.p('tile_size', 'd1.size', min=0.5, max=1.0)
+    g.p('edge_softness', 'd1.softness', min=0.02, max=0.2)
+    g.n('rnd', 'white_noise', scale=24, seed=4)
+    g.n('tc', 'gradient_map', {'in': 'rnd'}, color_0=[0.75, 0.75, 0.72], color_1=[0.8, 0.8, 0.78], color_2=[0.9, 0.9, 0.88])
+    g.p('tile_color_a', 'tc.color_0')
+    g.p('tile_color_b', 'tc.color_2')
+    g.n('gc', 'uniform_color', color=[0.3, 0.3, 0.3])
+    g.p('grout_color', 'gc.color')
+    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 'd'})
+    g.n('rough', 'levels', {'in': 'd'}, out_low=0.8, out_high=0.1)
+    g.p('roughness_grout', 'rough.out_low')
+    g.p('roughness_tile', 'rough.out_high')
+    finish(g, 'd', 'rough', 'alb', 0.004)
+
+
+hex_tiles()
+
+# ---------------------------------------------------------------- stone
+def marble(name, desc, base, vein, seed, scale=2):
+    g = G(name, 'stone', desc)
+    g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=6, roughness=0.55, seed=seed)
+    g.n('w', 'fbm', scale_x=scale, scale_y=scale, octaves=5, roughness=0.5, seed=seed + 1)
+    g.n('s', 'stripes', count=3, direction='diagonal', width=0.08, softness=0.15)
+    g.n('sw', 'warp', {'in': 's', 'height': 'w'}, intensity=0.004)
+    g.n('sw2', 'directional_warp', {'in': 'sw', 'height': 'f'}, intensity=0.15, angle=0.1)
+    g.p('vein_width', 's.width', min=0.01, max=0.3)
+    g.p('vein_turbulence', 'sw.intensity', min=0.0, max=0.01)
+    g.p('vein_flow', 'sw2.intensity', min=0.0, max=0.2)
+    g.n('veins', 'levels', {'in': 'sw2'}, gamma=0.6)
+    g.p('vein_contrast', 'veins.gamma', min=0.2, max=1.5)
+    g.n('cl', 'blend', {'fg': 'f', 'bg': 'veins'}, mode='screen', opacity=0.3)
+    g.p('clouding', 'cl.opacity')
+    g.n('col', 'gradient_map', {'in': 'cl'}, color_0=base, color_1=[(a + b) / 2 for a, b in zip(base, vein)], color_2=vein, position=0.6)
+    g.p('stone_color', 'col.color_0')
+    g.p('vein_color', 'col.color_2')
+    g.n('rough', 'levels', {'in': 'veins'}, out_low=0.08, out_high=0.15)
+    g.p('roughness_base', 'rough.out_low')
+    g.p('roughness_veins', 'rough.out_high')
+    finish(g, 'veins', 'rough', 'col', 0.001)
+
+
+marble('stone_marble_white', 'White Carrara-like polished marble with grey veins.', [0.82, 0.82, 0.8], [0.35, 0.36, 0.38], 41)
+marble('stone_marble_dark', 'Dark polished marble (Nero Marquina-like) with white veins.', [0.04, 0.04, 0.045], [0.75, 0.75, 0.73], 43)
+
+
+def granite(name, desc, c0, c1, c2, seed, cat='stone', rough=(0.15, 0.3), scale=64):
+    g = G(name, cat, desc)
+    g.n('v', 'voronoi', scale=scale, jitter=1.0, mode='cell_value', seed=seed)
+    g.n('f', 'fbm', scale_x=8, scale_y=8, octaves=5, roughness=0.6, seed=seed + 1)
+    g.n('m', 'blend', {'fg': 'f', 'bg': 'v'}, mode='overlay', opacity=0.5)
+    g.p('cloudiness', 'm.opacity')
+    g.n('hs', 'histogram_scan', {'in': 'm'}, position=0.5, contrast=0.3)
+    g.p('speckle_amount', 'hs.position', min=0.2, max=0.8)
+    g.p('speckle_contrast', 'hs.contrast', min=0.0, max=0.9)
+    colors3(g, 'col', 'hs', c0, c1, c2, 0.5, 'stone')
+    g.n('rough', 'levels', {'in': 'hs'}, out_low=rough[0], out_high=rough[1])
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    g.n('h', 'levels', {'in': 'f'}, out_low=0.45, out_high=0.55)
+    finish(g, 'h', 'rough', 'col', 0.005)
+
+
+granite('stone_granite', 'Speckled granite countertop, polished.', [0.08, 0.08, 0.08], [0.45, 0.42, 0.4], [0.8, 0.78, 0.75], 51)
+granite('stone_granite_red', 'Red-brown speckled granite.', [0.1, 0.05, 0.04], [0.45, 0.22, 0.16], [0.7, 0.6, 0.55], 53)
+
+
+def terrazzo():
+    g = G('stone_terrazzo', 'stone', 'Terrazzo: stone chips of several colors in a light cement matrix.')
+    g.n('v', 'voronoi', scale=20, jitter=1.0, mode='f2_minus_f1', seed=61)
+    g.n('chips', 'histogram_scan', {'in': 'v'}, position=0.45, contrast=0.85)
+    g.p('chip_density', 'chips.position', min=0.2, max=0.8)
+    g.n('cv', 'voronoi', scale=20, jitter=1.0, mode='cell_value', seed=61)
+    g.n('cc', 'gradient_map', {'in': 'cv'}, color_0=[0.15, 0.15, 0.15], color_1=[0.55, 0.3, 0.2], color_2=[0.7, 0.7, 0.68], position=0.5)
+    g.p('chip_color_a', 'cc.color_0')
+    g.p('chip_color_b', 'cc.color_1')
+    g.p('chip_color_c', 'cc.color_2')
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=62)
+    g.n('mc', 'gradient_map', {'in': 'f'}, color_0=[0.72, 0.7, 0.66], color_1=[0.78, 0.76, 0.72], color_2=[0.84, 0.82, 0.78])
+    g.p('matrix_color', 'mc.color_1')
+    g.n('alb', 'blend', {'fg': 'cc', 'bg': 'mc', 'mask': 'chips'})
+    g.n('rough', 'levels', {'in': 'chips'}, out_low=0.3, out_high=0.2)
+    g.p('roughness_matrix', 'rough.out_low')
+    g.p('roughness_chips', 'rough.out_high')
+    g.n('h', 'levels', {'in': 'f'}, out_low=0.48, out_high=0.52)
+    finish(g, 'h', 'rough', 'alb', 0.005)
+
+
+terrazzo()
+
+
+def travertine():
+    g = G('stone_travertine', 'stone', 'Travertine tiles: banded beige stone with small pits.')
+    g.n('band', 'fbm', scale_x=1, scale_y=12, octaves=5, roughness=0.55, seed=71)
+    g.n('pits', 'voronoi', scale=48, jitter=1.0, mode='f1', seed=72)
+    g.n('pitm', 'histogram_scan', {'in': 'pits'}, position=0.9, contrast=0.8)
+    g.p('pit_amount', 'pitm.position', min=0.8, max=1.0)
+    g.n('t', 'tile', {'pattern': 'band'}, layout='bricks', rows=4, cols=2, gap=0.02, bevel=0.02, lum_var=0.3, seed=73)
+    g.p('tile_rows', 't.rows', min=2, max=8)
+    g.p('grout_width', 't.gap', min=0.0, max=0.1)
+    colors3(g, 'col', 't.sampled', [0.55, 0.45, 0.33], [0.7, 0.6, 0.47], [0.82, 0.75, 0.63], 0.5, 'stone')
+    g.n('pc', 'uniform_color', color=[0.45, 0.37, 0.27])
+    g.n('alb0', 'blend', {'fg': 'pc', 'bg': 'col', 'mask': 'pitm'}, opacity=0.7)
+    g.n('alb', 'blend', {'fg': 't.random', 'bg': 'alb0'}, mode='overlay', opacity=0.2)
+    g.n('h0', 'blend', {'fg': 'pitm', 'bg': 't.height'}, mode='subtract', opacity=0.5)
+    g.n('rough', 'levels', {'in': 'band'}, out_low=0.45, out_high=0.6)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'h0', 'rough', 'alb', 0.005)
+
+
+travertine()
+
+
+def slate():
+    g = G('stone_slate', 'stone', 'Cleft slate flagstones: dark grey layered stone in a grid.')
+    g.n('f', 'fbm', scale_x=4, scale_y=4, octaves=7, roughness=0.6, seed=81)
+    g.n('t', 'tile', {'pattern': 'f'}, layout='bricks', rows=3, cols=2, gap=0.03, bevel=0.05, lum_var=0.5, seed=82)
+    g.p('rows', 't.rows', min=2, max=8)
+    g.p('gap', 't.gap', min=0.0, max=0.1)
+    g.p('variation', 't.lum_var')
+    g.n('cl', 'blend', {'fg': 't.random', 'bg': 't.sampled'}, mode='overlay', opacity=0.5)
+    colors3(g, 'col', 'cl', [0.06, 0.065, 0.07], [0.16, 0.17, 0.18], [0.3, 0.3, 0.3])
+    g.n('gc', 'uniform_color', color=[0.25, 0.24, 0.23])
+    g.n('alb', 'blend', {'fg': 'col', 'bg': 'gc', 'mask': 't.height'})
+    g.n('h', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.6)
+    g.n('rough', 'levels', {'in': 't.sampled'}, out_low=0.5, out_high=0.8)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.01)
+
+
+slate()
+
+# ---------------------------------------------------------------- concrete / plaster / paint
+def cementish(name, cat, desc, c, scale, pores, rough, relief, seed):
+    g = G(name, cat, desc)
+    g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=7, roughness=0.6, seed=seed)
+    g.n('big', 'fbm', scale_x=2, scale_y=2, octaves=3, roughness=0.5, seed=seed + 1)
+    g.n('m', 'blend', {'fg': 'big', 'bg': 'f'}, mode='overlay', opacity=0.6)
+    g.p('stain_amount', 'm.opacity')
+    g.n('p', 'voronoi', scale=pores, jitter=1.0, mode='f1', seed=seed + 2)
+    g.n('pm', 'histogram_scan', {'in': 'p'}, position=0.93, contrast=0.7)
+    g.p('pore_amount', 'pm.position', min=0.85, max=1.0)
+    g.n('mm', 'blend', {'fg': 'pm', 'bg': 'm'}, mode='subtract', opacity=0.5)
+    g.n('col', 'gradient_map', {'in': 'mm'}, color_0=[x * 0.7 for x in c], color_1=c, color_2=[min(1, x * 1.2) for x in c])
+    g.p('base_color', 'col.color_1')
+    g.p('dark_color', 'col.color_0')
+    g.p('light_color', 'col.color_2')
+    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'mm', 'rough', 'col', relief)
+
+
+cementish('concrete_smooth', 'concrete', 'Smooth poured concrete with cloudy stains and small pores.', [0.5, 0.49, 0.47], 6, 40, (0.7, 0.85), 0.004, 91)
+cementish('concrete_rough', 'concrete', 'Rough board-formed concrete, darker, with many pores.', [0.38, 0.37, 0.36], 12, 60, (0.8, 0.95), 0.01, 93)
+cementish('concrete_polished', 'concrete', 'Polished concrete floor, low roughness.', [0.55, 0.54, 0.52], 4, 30, (0.25, 0.4), 0.002, 95)
+cementish('plaster_smooth', 'plaster', 'Smooth white plaster wall with faint trowel clouding.', [0.8, 0.79, 0.76], 3, 80, (0.75, 0.85), 0.002, 101)
+cementish('plaster_stucco', 'plaster', 'Sprayed stucco / orange-peel wall texture.', [0.76, 0.73, 0.68], 24, 64, (0.8, 0.9), 0.02, 103)
+
+
+def venetian():
+    g = G('plaster_venetian', 'plaster', 'Venetian plaster: polished, cloudy, layered trowel strokes.')
+    g.n('f', 'fbm', scale_x=3, scale_y=2, octaves=6, roughness=0.6, seed=111)
+    g.n('st', 'directional_blur', {'in': 'f'}, length=0.08, angle=0.08, taps=12)
+    g.p('stroke_length', 'st.length', min=0.0, max=0.2)
+    g.p('stroke_angle', 'st.angle')
+    g.n('lv', 'levels', {'in': 'st'}, in_low=0.3, in_high=0.7)
+    colors3(g, 'col', 'lv', [0.55, 0.45, 0.35], [0.68, 0.58, 0.46], [0.8, 0.72, 0.6])
+    g.n('rough', 'levels', {'in': 'lv'}, out_low=0.2, out_high=0.35)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'lv', 'rough', 'col', 0.001)
+
+
+venetian()
+
+
+def paint(name, desc, col, scale, rough, relief, seed):
+    g = G(name, 'paint', desc)
+    g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=4, roughness=0.5, seed=seed)
+    g.n('c', 'uniform_color', color=col)
+    g.p('paint_color', 'c.color')
+    g.n('sh', 'levels', {'in': 'f'}, out_low=0.96, out_high=1.0)
+    g.p('color_variation', 'sh.out_low', min=0.8, max=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'f', 'rough', 'alb', relief)
+
+
+paint('paint_matte_wall', 'Matte painted wall (roller texture).', [0.75, 0.73, 0.68], 48, (0.8, 0.9), 0.004, 121)
+paint('paint_eggshell', 'Eggshell paint, slight sheen, colored.', [0.45, 0.55, 0.62], 64, (0.4, 0.5), 0.002, 123)
+paint('paint_glossy', 'Glossy enamel paint (doors, trim).', [0.9, 0.9, 0.88], 8, (0.08, 0.12), 0.001, 125)
+
+
+def textured_wall():
+    g = G('paint_textured_wall', 'paint', 'Painted textured wall (knock-down): flattened blobs.')
+    g.n('v', 'voronoi', scale=16, jitter=1.0, mode='f1', seed=131)
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=132)
+    g.n('m', 'blend', {'fg': 'f', 'bg': 'v'}, mode='add', opacity=0.6)
+    g.n('hs', 'histogram_scan', {'in': 'm'}, position=0.45, contrast=0.6)
+    g.p('blob_coverage', 'hs.position', min=0.2, max=0.8)
+    g.p('blob_sharpness', 'hs.contrast', min=0.0, max=0.9)
+    g.n('c', 'uniform_color', color=[0.8, 0.77, 0.7])
+    g.p('paint_color', 'c.color')
+    g.n('sh', 'levels', {'in': 'hs'}, out_low=0.92, out_high=1.0)
+    g.p('shade', 'sh.out_low', min=0.7, max=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 'hs'}, out_low=0.85, out_high=0.7)
+    g.p('roughness_low', 'rough.out_low')
+    g.p('roughness_high', 'rough.out_high')
+    finish(g, 'hs', 'rough', 'alb', 0.004)
+
+
+textured_wall()
+
+# ---------------------------------------------------------------- wallpaper
+def wallpaper_stripes():
+    g = G('wallpaper_stripes', 'wallpaper', 'Striped wallpaper: two-tone vertical stripes with a pinstripe, paper texture.')
+    g.n('s', 'stripes', count=8, direction='u', width=0.5, softness=0.01)
+    g.n('pin', 'stripes', count=8, direction='u', width=0.04, softness=0.01)
+    g.p('stripe_count', 's.count', min=2, max=24)
+    g.p('stripe_width', 's.width', min=0.1, max=0.9)
+    g.p('stripe_count_pin', 'pin.count', min=2, max=24)
+    g.n('ca', 'uniform_color', color=[0.72, 0.66, 0.5])
+    g.n('cb', 'uniform_color', color=[0.55, 0.48, 0.32])
+    g.n('cp', 'uniform_color', color=[0.45, 0.22, 0.15])
+    g.p('color_a', 'ca.color')
+    g.p('color_b', 'cb.color')
+    g.p('pin_color', 'cp.color')
+    g.n('m1', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 's'})
+    g.n('pin2', 'transform', {'in': 'pin'}, offset_u=0.0625)
+    g.n('m2', 'blend', {'fg': 'cp', 'bg': 'm1', 'mask': 'pin2'})
+    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=141)
+    g.n('alb', 'blend', {'fg': 'paper', 'bg': 'm2'}, mode='overlay', opacity=0.15)
+    g.p('paper_texture', 'alb.opacity')
+    g.n('rough', 'levels', {'in': 's'}, out_low=0.75, out_high=0.6)
+    g.p('roughness_a', 'rough.out_high')
+    g.p('roughness_b', 'rough.out_low')
+    finish(g, 'paper', 'rough', 'alb', 0.002)
+
+
+wallpaper_stripes()
+
+
+def wallpaper_damask():
+    g = G('wallpaper_damask', 'wallpaper', 'Damask-like wallpaper: symmetric ornament of lobes on a tonal ground, slightly raised print.')
+    g.n('b1', 'shape', count=4, shape='bell', size=0.9)
+    g.n('w', 'fbm', scale_x=4, scale_y=4, octaves=2, roughness=0.5, seed=151)
+    g.n('g1', 'gradient_radial', count=4, radius=1.0)
+    g.n('ring', 'stripes', count=16, direction='v', width=0.5, softness=0.2)
+    g.n('rw', 'warp', {'in': 'ring', 'height': 'g1'}, intensity=0.01)
+    g.n('orn', 'blend', {'fg': 'rw', 'bg': 'b1'}, mode='multiply')
+    g.n('d2', 'transform', {'in': 'orn'}, offset_u=0.125, offset_v=0.125)
+    g.n('orn2', 'blend', {'fg': 'd2', 'bg': 'orn'}, mode='max')
+    g.n('ornament', 'histogram_scan', {'in': 'orn2'}, position=0.35, contrast=0.8)
+    g.p('ornament_size', 'b1.size', min=0.5, max=1.0)
+    g.p('ornament_detail', 'rw.intensity', min=0.0, max=0.02)
+    g.p('ornament_amount', 'ornament.position', min=0.1, max=0.6)
+    g.n('ca', 'uniform_color', color=[0.35, 0.08, 0.1])
+    g.n('cb', 'uniform_color', color=[0.5, 0.15, 0.15])
+    g.p('ground_color', 'ca.color')
+    g.p('ornament_color', 'cb.color')
+    g.n('m', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'ornament'})
+    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=152)
+    g.n('alb', 'blend', {'fg': 'paper', 'bg': 'm'}, mode='overlay', opacity=0.1)
+    g.n('rough', 'levels', {'in': 'ornament'}, out_low=0.8, out_high=0.45)
+    g.p('roughness_ground', 'rough.out_low')
+    g.p('roughness_ornament', 'rough.out_high')
+    finish(g, 'ornament', 'rough', 'alb', 0.003)
+
+
+wallpaper_damask()
+
+
+def wallpaper_grasscloth():
+    g = G('wallpaper_grasscloth', 'wallpaper', 'Grasscloth wallpaper: horizontal natural fibers.')
+    g.n('f', 'fbm', scale_x=2, scale_y=128, octaves=3, roughness=0.6, seed=161)
+    g.n('f2', 'fbm', scale_x=8, scale_y=32, octaves=3, roughness=0.5, seed=162)
+    g.n('m', 'blend', {'fg': 'f2', 'bg': 'f'}, mode='overlay', opacity=0.5)
+    g.p('fiber_mix', 'm.opacity')
+    colors3(g, 'col', 'm', [0.35, 0.3, 0.2], [0.55, 0.48, 0.34], [0.7, 0.64, 0.5])
+    g.n('rough', 'levels', {'in': 'm'}, out_low=0.85, out_high=0.7)
+    g.p('roughness_min', 'rough.out_high')
+    g.p('roughness_max', 'rough.out_low')
+    finish(g, 'm', 'rough', 'col', 0.004)
+
+
+wallpaper_grasscloth()
+
+# ---------------------------------------------------------------- brick
+def brick(name, desc, col, mortar, rows, cols, seed):
+    g = G(name, 'brick', desc)
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=6, roughness=0.6, seed=seed)
+    g.n('t', 'tile', {'pattern': 'f'}, layout='bricks', rows=rows, cols=cols, row_offset=0.5, gap=0.12, bevel=0.12, lum_var=0.6, seed=seed + 1)
+    g.p('rows', 't.rows', min=rows // 2, max=rows * 2)
+    g.p('mortar_width', 't.gap', min=0.02, max=0.3)
+    g.p('edge_wear', 't.bevel', min=0.02, max=0.3)
+    g.p('brick_variation', 't.lum_var')
+    g.n('m', 'blend', {'fg': 't.sampled', 'bg': 't.random'}, mode='overlay', opacity=0.5)
+    g.p('brick_texture', 'm.opacity')
+    colors3(g, 'col', 'm', [c * 0.5 for c in col], col, [min(1, c * 1.3) for c in col], 0.5, 'brick')
+    g.n('mc', 'uniform_color', color=mortar)
+    g.p('mortar_color', 'mc.color')
+    g.n('edge', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.4)
+    g.n('mask', 'histogram_scan', {'in': 'edge'}, position=0.6, contrast=0.7)
+    g.n('alb', 'blend', {'fg': 'col', 'bg': 'mc', 'mask': 'mask'})
+    g.n('h', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.3)
+    g.n('rough', 'levels', {'in': 'f'}, out_low=0.75, out_high=0.95)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.008)
+
+
+brick('brick_red', 'Red clay brick wall, running bond, grey mortar.', [0.4, 0.14, 0.08], [0.55, 0.53, 0.5], 12, 4, 171)
+brick('brick_white_painted', 'Painted white brick wall.', [0.78, 0.77, 0.74], [0.7, 0.69, 0.66], 12, 4, 173)
+brick('brick_yellow', 'Yellow / buff London stock brick, dark mortar.', [0.55, 0.42, 0.25], [0.3, 0.29, 0.27], 14, 4, 175)
+
+# ---------------------------------------------------------------- fabric / carpet / leather
+def fabric(name, desc, pattern, count, col, width, fuzz, seed, cat='fabric', rough=(0.85, 0.95)):
+    g = G(name, cat, desc)
+    g.n('w', 'weave', count=count, pattern=pattern, width=width, seed=seed)
+    g.p('thread_count', 'w.count', min=max(4, count // 2), max=count * 2)
+    g.p('thread_width', 'w.width', min=0.5, max=1.0)
+    g.n('fz', 'fbm', scale_x=count * 2, scale_y=count * 2, octaves=2, roughness=0.5, seed=seed + 1)
+    g.n('hf', 'blend', {'fg': 'fz', 'bg': 'w.height'}, mode='overlay', opacity=fuzz)
+    g.p('fuzz', 'hf.opacity')
+    g.n('tv', 'blend', {'fg': 'w.random', 'bg': 'hf'}, mode='overlay', opacity=0.3)
+    g.p('thread_variation', 'tv.opacity')
+    g.n('wc', 'uniform_color', color=col)
+    g.n('fc', 'uniform_color', color=[c * 0.85 for c in col])
+    g.p('warp_color', 'wc.color')
+    g.p('weft_color', 'fc.color')
+    g.n('cm', 'blend', {'fg': 'wc', 'bg': 'fc', 'mask': 'w.warp'})
+    g.n('sh', 'levels', {'in': 'tv'}, out_low=0.45, out_high=1.0)
+    g.p('shadowing', 'sh.out_low', min=0.1, max=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'cm'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 'hf'}, out_low=rough[0], out_high=rough[1])
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'hf', 'rough', 'alb', 0.002)
+
+
+fabric('fabric_plain_weave', 'Plain-weave cotton / linen upholstery.', 'plain', 64, [0.55, 0.5, 0.42], 0.85, 0.3, 181)
+fabric('fabric_twill', 'Twill (denim-like) fabric with diagonal ribs.', 'twill_2_2', 96, [0.12, 0.18, 0.35], 0.9, 0.25, 183)
+fabric('fabric_basket', 'Basket-weave upholstery (panama), coarse.', 'basket_2_2', 48, [0.42, 0.36, 0.3], 0.85, 0.35, 185)
+fabric('fabric_linen', 'Loose linen with slubby, irregular threads.', 'plain', 48, [0.68, 0.64, 0.56], 0.7, 0.6, 187)
+
+
+def knit():
+    g = G('fabric_knit', 'fabric', 'Knitted fabric: columns of V-shaped stitches.')
+    g.n('sh', 'shape', count=24, shape='bell', size=1.0)
+    g.n('zig', 'stripes', count=24, direction='diagonal', width=0.5, softness=0.3)
+    g.n('zig2', 'stripes', count=24, direction='antidiagonal', width=0.5, softness=0.3)
+    g.n('col', 'gradient_linear', direction='u', repeats=24, shape='saw')
+    g.n('vv', 'blend', {'fg': 'zig', 'bg': 'zig2', 'mask': 'col'})
+    g.n('st', 'blend', {'fg': 'sh', 'bg': 'vv'}, mode='multiply', opacity=0.5)
+    g.p('stitch_roundness', 'st.opacity')
+    g.p('stitch_softness', 'zig.softness', min=0.05, max=0.5)
+    g.n('fz', 'fbm', scale_x=64, scale_y=64, octaves=2, roughness=0.5, seed=191)
+    g.n('h', 'blend', {'fg': 'fz', 'bg': 'st'}, mode='overlay', opacity=0.3)
+    g.p('fuzz', 'h.opacity')
+    g.n('c', 'uniform_color', color=[0.5, 0.12, 0.1])
+    g.p('yarn_color', 'c.color')
+    g.n('s', 'levels', {'in': 'h'}, out_low=0.4, out_high=1.0)
+    g.p('shadowing', 's.out_low', min=0.1, max=1.0)
+    g.n('alb', 'blend', {'fg': 's', 'bg': 'c'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 'h'}, out_low=0.95, out_high=0.85)
+    g.p('roughness_min', 'rough.out_high')
+    g.p('roughness_max', 'rough.out_low')
+    finish(g, 'h', 'rough', 'alb', 0.003)
+
+
+knit()
+
+
+def velvet():
+    g = G('fabric_velvet', 'fabric', 'Velvet: dense pile with soft, directional sheen patches.')
+    g.n('f', 'fbm', scale_x=3, scale_y=3, octaves=4, roughness=0.5, seed=201)
+    g.n('pile', 'fbm', scale_x=128, scale_y=128, octaves=2, roughness=0.5, seed=202)
+    g.n('dirb', 'directional_blur', {'in': 'f'}, length=0.05, angle=0.2, taps=8)
+    g.p('crush_direction', 'dirb.angle')
+    g.p('crush_length', 'dirb.length', min=0.0, max=0.15)
+    g.n('m', 'blend', {'fg': 'pile', 'bg': 'dirb'}, mode='overlay', opacity=0.3)
+    colors3(g, 'col', 'm', [0.08, 0.02, 0.06], [0.2, 0.05, 0.15], [0.35, 0.12, 0.28])
+    g.n('rough', 'levels', {'in': 'm'}, out_low=0.7, out_high=0.9)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'm', 'rough', 'col', 0.003)
+
+
+velvet()
+
+
+def carpet(name, desc, col, scale, loop, seed):
+    g = G(name, 'carpet', desc)
+    if loop:
+        g.n('s', 'shape', count=scale, shape='bell', size=1.0)
+        g.n('o', 'transform', {'in': 's'}, offset_u=0.5 / scale)
+        g.n('p', 'blend', {'fg': 'o', 'bg': 's', 'mask': 'rowm'})
+        g.n('rowm', 'stripes', count=scale // 2, direction='v', width=0.5, softness=0.01)
+        g.p('loop_size', 's.size', min=0.5, max=1.0)
+        pile = 'p'
+    else:
+        g.n('pn', 'white_noise', scale=scale * 4, seed=seed)
+        g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
+        g.p('tuft_softness', 'pb.sigma', min=0.0005, max=0.005)
+        pile = 'pb'
+    g.n('f', 'fbm', scale_x=4, scale_y=4, octaves=4, roughness=0.5, seed=seed + 1)
+    g.n('m', 'blend', {'fg': 'f', 'bg': pile}, mode='overlay', opacity=0.5)
+    g.p('mottling', 'm.opacity')
+    g.n('c', 'gradient_map', {'in': 'm'}, color_0=[c * 0.5 for c in col], color_1=col, color_2=[min(1, c * 1.4) for c in col])
+    g.p('pile_color', 'c.color_1')
+    g.p('pile_shadow', 'c.color_0')
+    g.p('pile_tip', 'c.color_2')
+    g.n('rough', 'levels', {'in': 'm'}, out_low=0.9, out_high=1.0)
+    g.p('roughness_min', 'rough.out_low')
+    finish(g, 'm', 'rough', 'c', 0.004)
+
+
+carpet('carpet_loop_pile', 'Berber-like loop pile carpet in rows.', [0.45, 0.4, 0.33], 48, True, 211)
+carpet('carpet_cut_pile', 'Cut pile (plush) carpet, fine speckle.', [0.3, 0.32, 0.38], 64, False, 213)
+
+
+def rug():
+    g = G('carpet_patterned_rug', 'carpet', 'Patterned rug: bordered diamonds over cut pile.')
+    g.n('d', 'checker', count=8, softness=0.02)
+    g.n('dr', 'stripes', count=8, direction='diagonal', width=0.3, softness=0.05)
+    g.n('dr2', 'stripes', count=8, direction='antidiagonal', width=0.3, softness=0.05)
+    g.n('dd', 'blend', {'fg': 'dr', 'bg': 'dr2'}, mode='max')
+    g.p('motif_line_width', 'dr.width', min=0.1, max=0.6)
+    g.n('ca', 'uniform_color', color=[0.45, 0.08, 0.06])
+    g.n('cb', 'uniform_color', color=[0.08, 0.1, 0.25])
+    g.n('cc', 'uniform_color', color=[0.75, 0.65, 0.45])
+    g.p('field_color', 'ca.color')
+    g.p('motif_color', 'cb.color')
+    g.p('line_color', 'cc.color')
+    g.n('m1', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'd'})
+    g.n('m2', 'blend', {'fg': 'cc', 'bg': 'm1', 'mask': 'dd'})
+    g.n('pn', 'white_noise', scale=256, seed=221)
+    g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
+    g.n('wr', 'warp', {'in': 'm2', 'height': 'pb'}, intensity=0.0005)
+    g.p('pile_disorder', 'wr.intensity', min=0.0, max=0.002)
+    g.n('alb', 'blend', {'fg': 'pb', 'bg': 'wr'}, mode='overlay', opacity=0.3)
+    g.p('pile_texture', 'alb.opacity')
+    g.n('rough', 'levels', {'in': 'pb'}, out_low=0.9, out_high=1.0)
+    finish(g, 'pb', 'rough', 'alb', 0.003)
+
+
+rug()
+
+
+def leather(name, desc, col, scale, rough, seed):
+    g = G(name, 'leather', desc)
+    g.n('v', 'voronoi', scale=scale, jitter=1.0, mode='f2_minus_f1', seed=seed)
+    g.n('cr', 'histogram_scan', {'in': 'v'}, position=0.8, contrast=0.6)
+    g.p('crease_width', 'cr.position', min=0.5, max=0.98)
+    g.n('f', 'fbm', scale_x=4, scale_y=4, octaves=5, roughness=0.55, seed=seed + 1)
+    g.n('m', 'blend', {'fg': 'f', 'bg': 'cr'}, mode='overlay', opacity=0.4)
+    g.p('wear', 'm.opacity')
+    colors3(g, 'col', 'm', [c * 0.5 for c in col], col, [min(1, c * 1.3) for c in col], 0.5, 'leather')
+    g.n('rough', 'levels', {'in': 'cr'}, out_low=rough[1], out_high=rough[0])
+    g.p('roughness_grain', 'rough.out_low')
+    g.p('roughness_top', 'rough.out_high')
+    finish(g, 'cr', 'rough', 'col', 0.004)
+
+
+leather('leather_brown', 'Brown pebbled leather (sofa, chair).', [0.25, 0.12, 0.06], 48, (0.45, 0.65), 231)
+leather('leather_black', 'Black smooth leather, fine grain, semi-gloss.', [0.04, 0.035, 0.035], 80, (0.3, 0.5), 233)
+
+# ---------------------------------------------------------------- metal / plastic / cork / rubber / paper
+def brushed_metal():
+    g = G('metal_brushed', 'metal', 'Brushed stainless steel / aluminium: fine streaks along u.')
+    g.n('n', 'fbm', scale_x=2, scale_y=256, octaves=3, roughness=0.6, seed=241)
+    g.n('b', 'directional_blur', {'in': 'n'}, length=0.05, angle=0.0, taps=8)
+    g.p('streak_length', 'b.length', min=0.0, max=0.15)
+    g.n('lv', 'levels', {'in': 'b'}, in_low=0.2, in_high=0.8)
+    colors3(g, 'col', 'lv', [0.5, 0.5, 0.52], [0.62, 0.62, 0.64], [0.72, 0.72, 0.74], 0.5, 'metal')
+    g.n('rough', 'levels', {'in': 'lv'}, out_low=0.25, out_high=0.4)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    g.n('metal', 'uniform_gray', value=1.0)
+    g.p('metallic', 'metal.value')
+    finish(g, 'lv', 'rough', 'col', 0.0005, metallic='metal')
+
+
+brushed_metal()
+
+
+def painted_metal():
+    g = G('metal_painted', 'metal', 'Powder-coated / painted metal with slight orange peel and chips.')
+    g.n('op', 'fbm', scale_x=48, scale_y=48, octaves=3, roughness=0.5, seed=251)
+    g.n('ch', 'fbm', scale_x=6, scale_y=6, octaves=6, roughness=0.6, seed=252)
+    g.n('chips', 'histogram_scan', {'in': 'ch'}, position=0.1, contrast=0.9)
+    g.p('chipping', 'chips.position', min=0.0, max=0.4)
+    g.n('paint', 'uniform_color', color=[0.1, 0.25, 0.2])
+    g.p('paint_color', 'paint.color')
+    g.n('bare', 'uniform_color', color=[0.6, 0.6, 0.62])
+    g.p('metal_color', 'bare.color')
+    g.n('alb', 'blend', {'fg': 'bare', 'bg': 'paint', 'mask': 'chips'})
+    g.n('inv', 'invert', {'in': 'chips'})
+    g.n('h', 'blend', {'fg': 'op', 'bg': 'inv'}, mode='multiply', opacity=0.1)
+    g.n('rough', 'levels', {'in': 'chips'}, out_low=0.35, out_high=0.5)
+    g.p('roughness_paint', 'rough.out_low')
+    g.p('roughness_bare', 'rough.out_high')
+    g.n('metal', 'levels', {'in': 'chips'}, out_low=0.0, out_high=1.0)
+    g.p('bare_metallic', 'metal.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.003, metallic='metal')
+
+
+painted_metal()
+
+
+def plastic(name, desc, col, rough, bump, scale, seed):
+    g = G(name, 'plastic', desc)
+    g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=4, roughness=0.5, seed=seed)
+    g.n('c', 'uniform_color', color=col)
+    g.p('color', 'c.color')
+    g.n('sh', 'levels', {'in': 'f'}, out_low=0.97, out_high=1.0)
+    g.p('color_variation', 'sh.out_low', min=0.8, max=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'f', 'rough', 'alb', bump)
+
+
+plastic('plastic_glossy', 'Glossy molded plastic (appliances, furniture).', [0.8, 0.8, 0.78], (0.05, 0.1), 0.0005, 8, 261)
+plastic('plastic_textured', 'Textured (sand-blasted) matte plastic.', [0.15, 0.15, 0.16], (0.5, 0.65), 0.006, 96, 263)
+plastic('plastic_laminate', 'Colored laminate worktop with fine speckle.', [0.55, 0.2, 0.15], (0.25, 0.35), 0.002, 128, 265)
+
+
+def cork():
+    g = G('cork', 'cork', 'Agglomerated cork board / floor: granules of varied brown.')
+    g.n('v', 'voronoi', scale=64, jitter=1.0, mode='cell_value', seed=271)
+    g.n('e', 'voronoi', scale=64, jitter=1.0, mode='f2_minus_f1', seed=271)
+    g.n('ed', 'histogram_scan', {'in': 'e'}, position=0.85, contrast=0.6)
+    g.p('granule_gaps', 'ed.position', min=0.6, max=1.0)
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=272)
+    g.n('m', 'blend', {'fg': 'f', 'bg': 'v'}, mode='overlay', opacity=0.5)
+    g.n('m2', 'blend', {'fg': 'ed', 'bg': 'm'}, mode='multiply', opacity=0.6)
+    g.p('gap_darkness', 'm2.opacity')
+    colors3(g, 'col', 'm2', [0.2, 0.12, 0.06], [0.45, 0.3, 0.17], [0.62, 0.45, 0.28])
+    g.n('rough', 'levels', {'in': 'm'}, out_low=0.8, out_high=0.9)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'm2', 'rough', 'col', 0.005)
+
+
+cork()
+
+
+def rubber():
+    g = G('rubber_studded', 'rubber', 'Studded rubber flooring: round raised studs on a matte base.')
+    g.n('s', 'shape', count=12, shape='disc', size=0.55, softness=0.08)
+    g.p('stud_count', 's.count', min=4, max=32)
+    g.p('stud_size', 's.size', min=0.2, max=0.9)
+    g.p('stud_edge', 's.softness', min=0.02, max=0.3)
+    g.n('f', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=281)
+    g.n('h', 'blend', {'fg': 'f', 'bg': 's'}, mode='add', opacity=0.03)
+    g.n('c', 'uniform_color', color=[0.08, 0.08, 0.085])
+    g.p('rubber_color', 'c.color')
+    g.n('sh', 'levels', {'in': 'f'}, out_low=0.85, out_high=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    g.n('rough', 'levels', {'in': 's'}, out_low=0.8, out_high=0.6)
+    g.p('roughness_base', 'rough.out_low')
+    g.p('roughness_stud', 'rough.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.01)
+
+
+rubber()
+
+
+def rubber_plain():
+    g = G('rubber_plain', 'rubber', 'Plain rubber / linoleum sheet with fine flecks.')
+    g.n('f', 'white_noise', scale=512, seed=291)
+    g.n('fl', 'histogram_scan', {'in': 'f'}, position=0.06, contrast=0.95)
+    g.p('fleck_amount', 'fl.position', min=0.0, max=0.3)
+    g.n('c', 'uniform_color', color=[0.35, 0.38, 0.33])
+    g.n('fc', 'uniform_color', color=[0.75, 0.75, 0.72])
+    g.p('base_color', 'c.color')
+    g.p('fleck_color', 'fc.color')
+    g.n('alb', 'blend', {'fg': 'fc', 'bg': 'c', 'mask': 'fl'})
+    g.n('b', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=292)
+    g.n('rough', 'levels', {'in': 'b'}, out_low=0.55, out_high=0.7)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, 'b', 'rough', 'alb', 0.002)
+
+
+rubber_plain()
+
+
+def paper(name, desc, col, fibers, seed, corrugated=False):
+    g = G(name, 'paper', desc)
+    g.n('f', 'fbm', scale_x=fibers, scale_y=fibers, octaves=5, roughness=0.6, seed=seed)
+    g.n('c', 'uniform_color', color=col)
+    g.p('paper_color', 'c.color')
+    g.n('sh', 'levels', {'in': 'f'}, out_low=0.9, out_high=1.0)
+    g.p('mottling', 'sh.out_low', min=0.6, max=1.0)
+    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    h = 'f'
+    if corrugated:
+        g.n('rib', 'stripes', count=24, direction='v', width=0.5, softness=0.4)
+        g.n('hh', 'blend', {'fg': 'f', 'bg': 'rib'}, mode='multiply', opacity=0.2)
+        g.p('rib_count', 'rib.count', min=8, max=64)
+        h = 'hh'
+    g.n('rough', 'levels', {'in': 'f'}, out_low=0.8, out_high=0.95)
+    g.p('roughness_min', 'rough.out_low')
+    g.p('roughness_max', 'rough.out_high')
+    finish(g, h, 'rough', 'alb', 0.002)
+
+
+paper('paper_white', 'White paper / card with fiber mottling.', [0.82, 0.81, 0.78], 32, 301)
+paper('paper_cardboard', 'Brown corrugated cardboard.', [0.45, 0.33, 0.2], 24, 303, corrugated=True)
+
+
+def homogeneous():
+    g = G('homogeneous', 'homogeneous', 'Homogeneous material: one albedo, one roughness, flat normal (the paper\'s fallback for small parts).')
+    g.n('c', 'uniform_color', color=[0.5, 0.5, 0.5])
+    g.n('r', 'uniform_gray', value=0.5)
+    g.n('h', 'uniform_gray', value=0.5)
+    g.n('m', 'uniform_gray', value=0.0)
+    g.p('albedo', 'c.color')
+    g.p('roughness', 'r.value')
+    g.p('metallic', 'm.value')
+    g.p('flat_height', 'h.value', doc='constant height (no effect on the normal)')
+    finish(g, 'h', 'r', 'c', 0.02, metallic='m')
+
+
+homogeneous()
+
+if __name__ == '__main__':
+    os.makedirs(OUT, exist_ok=True)
+    names = set()
+    for g in GRAPHS:
+        assert g.name not in names, g.name
+        names.add(g.name)
+        with open(os.path.join(OUT, g.name + '.json'), 'w') as f:
+            json.dump(g.json(), f, indent=1)
+            f.write('\n')
+    print(len(GRAPHS), 'graphs written to', os.path.normpath(OUT))
