@@ -1,0 +1,1 @@
+int a_symbol() { return 0; }

@@ -1,0 +1,1 @@
+int b_symbol() { return 0; }

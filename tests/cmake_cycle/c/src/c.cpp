@@ -1,0 +1,1 @@
+int c_symbol() { return 0; }
