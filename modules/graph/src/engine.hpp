@@ -168,7 +168,7 @@ class Evaluator {
         for (size_t p = 0; p < size_t(n) * n; ++p)
           for (int q = 0; q < 3; ++q) {
             const T raw = src.d[p * src.c + (src.c == 1 ? 0 : q)] + off[q];
-            if (raw <= 0 || raw >= 1) continue;
+            if (raw < 0 || raw > 1) continue;  // inclusive: one-sided slope at the bounds
             const T gg = g->d[3 * p + q];
             doff[q] += gg;
             if (d) d->d[p * src.c + (src.c == 1 ? 0 : q)] += gg;
@@ -188,7 +188,7 @@ class Evaluator {
       } else {
         Plane<T>& d = dOutOf(l);
         for (size_t p = 0; p < d.d.size(); ++p)
-          if (src.d[p] > 0 && src.d[p] < 1) d.d[p] += g->d[p];
+          if (src.d[p] >= 0 && src.d[p] <= 1) d.d[p] += g->d[p];
       }
     }
     std::vector<std::vector<T>> dParams(nodes.size());

@@ -104,10 +104,18 @@ GradientCheckReport checkGraphT(const MaterialGraph& graph, const GradientCheckO
       e.parameter = p.dim == 1 ? p.name : p.name + "[" + std::to_string(k) + "]";
       e.analytic = double(grad[i]) * range;
       for (double s : o.steps) {
+        // central differences inside the range, one-sided at its ends (into the range)
         std::vector<double> vp = values, vm = values;
-        vp[i] += s * range;
-        vm[i] -= s * range;
-        const double fd = (loss(vp) - loss(vm)) / (2 * s);
+        double span = 2 * s;
+        if (values[i] + s * range > p.max) {
+          span = s;
+        } else {
+          vp[i] += s * range;
+        }
+        if (values[i] - s * range < p.min) span = s;
+        else vm[i] -= s * range;
+        if (vp[i] == vm[i]) vp[i] += s * range, span = s;  // degenerate range
+        const double fd = (loss(vp) - loss(vm)) / span;
         if (!e.ok || s == o.steps.front()) e.finiteDifference = fd, e.step = s;
         if (close(e.analytic, fd, o)) {
           e.ok = true;

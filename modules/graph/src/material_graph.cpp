@@ -140,6 +140,13 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
       float& x = v[p.offset + k];
       if (p.name == "albedo_offset") {
         x = (r.uniform() * 0.2f - 0.1f) * spread;
+      } else if (p.kind == ParameterKind::Continuous && p.dim == 3) {
+        // colors: a plausible variation of the default (brightness and a little hue), not a
+        // uniform RGB draw (which gives pastels no real material has)
+        if (k == 0) r = rng.split(i + 1000);
+        Rng rb = rng.split(i + 2000);
+        const float bright = std::exp(spread * 0.7f * (rb.uniform() - 0.5f) * 2.f);
+        x = x * bright * (1.f + spread * 0.3f * (r.uniform() - 0.5f) * 2.f);
       } else if (p.kind == ParameterKind::Continuous) {
         x = x + spread * (r.uniform(p.min, p.max) - x);
       } else {

@@ -207,6 +207,28 @@ inline void sampleBilinear(const Plane<T>& p, T x, T y, T* out, T* gx = nullptr,
       gy[k] = bot - top;
     }
   }
+  if (!gx) return;
+  // exactly on a pixel center the bilinear derivative jumps; use the central difference (the
+  // mean of the one-sided derivatives) so an offset of 0 still gets a gradient
+  if (fx == T(0)) {
+    const int xm = (x0 - 1) & m;
+    const T* l0 = &p.d[(size_t(y0) * n + xm) * c];
+    const T* l1 = &p.d[(size_t(y1) * n + xm) * c];
+    for (int k = 0; k < c; ++k)
+      gx[k] = T(0.5) * ((T(1) - fy) * (b[k] - l0[k]) + fy * (dd[k] - l1[k]));
+  }
+  if (fy == T(0)) {
+    const int ym = (y0 - 1) & m;
+    const T* u0 = &p.d[(size_t(ym) * n + x0) * c];
+    const T* u1 = &p.d[(size_t(ym) * n + x1) * c];
+    for (int k = 0; k < c; ++k) {
+      const T vx0 = a[k] + fx * (b[k] - a[k]);
+      const T vxp = cc[k] + fx * (dd[k] - cc[k]);
+      const T vxm = u0[k] + fx * (u1[k] - u0[k]);
+      gy[k] = T(0.5) * (vxp - vxm);
+      (void)vx0;
+    }
+  }
 }
 /// Adjoint of sampleBilinear: scatters g (c values) into plane p.
 template <class T>

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     const ps::GraphLibrary lib = ps::GraphLibrary::load(folder);
     std::vector<std::string> names = lib.names();
     if (!only.empty()) names = {only};
-    const int perRow = 4;  // graphs per row, 3 spheres each
+    const int perRow = argc > 0 && std::getenv("PS_SHEET_PER_ROW") ? std::atoi(std::getenv("PS_SHEET_PER_ROW")) : 4;
     const int labelH = 16;
     const int rows = (int(names.size()) + perRow - 1) / perRow;
     cv::Mat sheet(rows * (cell + labelH), perRow * 3 * cell, CV_8UC3, cv::Scalar(20, 20, 20));

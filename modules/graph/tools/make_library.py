@@ -175,7 +175,7 @@ veneer()
 def painted_wood():
     g = G('wood_painted', 'wood', 'Painted wooden boards: paint color over faint grain and plank seams.')
     grain = wood_grain(g, rings=30, seed=31, warp=0.05, fiber=0.5)
-    g.n('tiles', 'tile', {'pattern': grain}, layout='grid', rows=1, cols=6, gap=0.005, bevel=0.01, lum_var=0.1, seed=32)
+    g.n('tiles', 'tile', {'pattern': grain}, layout='bricks', rows=2, cols=6, gap=0.005, bevel=0.01, lum_var=0.1, seed=32)
     g.p('board_count', 'tiles.cols', min=2, max=16)
     g.p('board_gap', 'tiles.gap', min=0.0, max=0.05)
     g.n('rot', 'transform', {'in': 'tiles.sampled'}, rotation='90')
@@ -234,7 +234,7 @@ tile_graph('tile_terracotta', 'Terracotta floor tiles, warm and uneven.', 'grid'
 tile_graph('tile_mosaic', 'Small square glass mosaic with varied blue-green tiles.', 'grid', 24, 24,
            [0.18, 0.42, 0.5], [0.7, 0.7, 0.68], 0.12, 0.12, 0.8, rough=(0.08, 0.15), noise_scale=2)
 tile_graph('tile_checker', 'Black and white checker floor tiles.', 'grid', 8, 8,
-           [0.5, 0.5, 0.5], [0.4, 0.4, 0.4], 0.03, 0.04, 0.0)
+           [0.5, 0.5, 0.5], [0.4, 0.4, 0.4], 0.03, 0.04, 0.05)
 
 
 def hex_tiles():
@@ -749,7 +749,7 @@ def painted_metal():
     g.n('rough', 'levels', {'in': 'chips'}, out_low=0.35, out_high=0.5)
     g.p('roughness_paint', 'rough.out_low')
     g.p('roughness_bare', 'rough.out_high')
-    g.n('metal', 'levels', {'in': 'chips'}, out_low=0.0, out_high=1.0)
+    g.n('metal', 'levels', {'in': 'chips'}, out_low=0.0, out_high=0.9)
     g.p('bare_metallic', 'metal.out_high')
     finish(g, 'h', 'rough', 'alb', 0.003, metallic='metal')
 

@@ -5,6 +5,7 @@
 // Tolerance: a parameter passes when |analytic - fd| <= absTol + relTol * max(|analytic|, |fd|)
 // for at least one of the steps h in `steps` (relative to the parameter's range). Several steps
 // make the check robust to the few kinks (clamps, cell boundaries) that a step may cross.
+// Graph checks use one-sided differences (into the range) for a value at the end of its range.
 #pragma once
 
 #include "photoscene/graph/material_graph.hpp"
@@ -17,7 +18,7 @@ namespace ps {
 struct GradientCheckOptions {
   int size = 32;                 ///< map size for the check (power of two)
   bool doublePrecision = true;   ///< run the forward and backward kernels in double
-  std::vector<double> steps = {1e-3, 3e-4, 1e-4};  ///< FD steps, as fractions of the range
+  std::vector<double> steps = {1e-3, 3e-4, 1e-4, 1e-5, 1e-6};  ///< FD steps, fractions of the range
   double relTol = 2e-2;
   double absTol = 1e-3;          ///< in units of the loss per unit of the normalized parameter
   uint64_t seed = 1;             ///< weights (and inputs for node checks)

@@ -1,0 +1,345 @@
+// Tests of the graph module: node gradients, library validity, tileability, resolution
+// independence, output ranges, caching, self-fit with Adam.
+#include "photoscene/core.hpp"
+#include "photoscene/graph.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace {
+
+const ps::GraphLibrary& lib() {
+  static const ps::GraphLibrary l = ps::GraphLibrary::load(PS_SOURCE_DIR "/modules/graph/library");
+  return l;
+}
+
+double meanAbs(const cv::Mat& a) { return cv::norm(a, cv::NORM_L1) / double(a.total() * a.channels()); }
+
+}  // namespace
+
+// ------------------------------------------------------------------ nodes
+TEST(Graph_Nodes, catalog_has_at_least_25_types) {
+  const auto cat = ps::nodeCatalog();
+  EXPECT_GE(cat.size(), 25u);
+  for (const auto& t : cat) {
+    EXPECT_FALSE(t.doc.empty()) << t.name;
+    EXPECT_FALSE(t.outputs.empty()) << t.name;
+  }
+}
+
+// Tolerance (double): |a - fd| <= 1e-4 + 2e-2 max(|a|, |fd|), loss = mean of weighted maps,
+// derivatives per unit of the normalized parameter, steps 1e-3, 3e-4, 1e-4 of the range.
+TEST(Graph_Nodes, gradients_match_finite_differences_double) {
+  ps::GradientCheckOptions o;
+  o.size = 32;
+  o.absTol = 1e-4;
+  for (const auto& t : ps::nodeCatalog()) {
+    const auto rep = ps::checkNodeGradients(t.name, {}, o);
+    EXPECT_TRUE(rep.ok()) << t.name << ":\n" << rep.summary();
+  }
+}
+
+// Same in float: looser (float FD noise ~1e-6 / step).
+TEST(Graph_Nodes, gradients_match_finite_differences_float) {
+  ps::GradientCheckOptions o;
+  o.size = 32;
+  o.doublePrecision = false;
+  o.steps = {3e-3, 1e-3};
+  o.relTol = 5e-2;
+  o.absTol = 5e-4;
+  for (const auto& t : ps::nodeCatalog()) {
+    const auto rep = ps::checkNodeGradients(t.name, {}, o);
+    EXPECT_TRUE(rep.ok()) << t.name << ":\n" << rep.summary();
+  }
+}
+
+TEST(Graph_Nodes, gradients_at_random_parameters) {
+  ps::GradientCheckOptions o;
+  o.size = 32;
+  o.absTol = 1e-4;
+  ps::Rng rng(5);
+  for (const auto& t : ps::nodeCatalog()) {
+    std::vector<float> v;
+    for (const auto& p : t.params)
+      for (int k = 0; k < p.dim; ++k) {
+        // stay off the range ends so FD steps stay inside; discrete at defaults
+        float x = p.defaultValue[k];
+        if (p.differentiable()) x = p.min + (p.max - p.min) * (0.15f + 0.7f * rng.uniform());
+        v.push_back(x);
+      }
+    const auto rep = ps::checkNodeGradients(t.name, v, o);
+    EXPECT_TRUE(rep.ok()) << t.name << ":\n" << rep.summary();
+  }
+}
+
+// ------------------------------------------------------------------ library
+TEST(Graph_Library, has_40_valid_graphs_in_spec_categories) {
+  const auto& l = lib();
+  EXPECT_GE(l.size(), 40);
+  const auto& cats = ps::materialCategories();
+  for (const auto& c : cats) EXPECT_FALSE(l.namesInCategory(c).empty()) << "no graph in category " << c;
+  for (const auto& name : l.names()) {
+    const auto& g = l.get(name);
+    EXPECT_NE(std::find(cats.begin(), cats.end(), g.category()), cats.end()) << name;
+    const int n = int(g.parameters().size()) - 1;  // without albedo_offset
+    EXPECT_GE(n, 5) << name;
+    EXPECT_LE(n, 40) << name;
+    EXPECT_GE(g.findParameter("albedo_offset"), 0) << name;
+    EXPECT_TRUE(g.hasOutput(ps::MapKind::Albedo) && g.hasOutput(ps::MapKind::Normal) &&
+                g.hasOutput(ps::MapKind::Roughness));
+  }
+}
+
+TEST(Graph_Library, env_var_and_argument_choose_the_folder) {
+  const std::string dir = std::string(PS_BINARY_DIR) + "/graph_test_lib";
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(PS_SOURCE_DIR "/modules/graph/library/homogeneous.json",
+                             dir + "/homogeneous.json",
+                             std::filesystem::copy_options::overwrite_existing);
+  auto l = ps::GraphLibrary::load(dir);
+  EXPECT_EQ(l.size(), 1);
+  setenv("PHOTOSCENE_GRAPH_LIBRARY", dir.c_str(), 1);
+  EXPECT_EQ(ps::GraphLibrary::defaultFolder(), dir);
+  EXPECT_EQ(ps::GraphLibrary::load().size(), 1);
+  unsetenv("PHOTOSCENE_GRAPH_LIBRARY");
+  EXPECT_THROW(ps::GraphLibrary::load(dir + "/missing"), ps::InputError);
+  EXPECT_THROW(lib().get("no_such_graph"), ps::InputError);
+  EXPECT_NE(lib().contentHash(), l.contentHash());
+}
+
+TEST(Graph_Format, bad_files_are_input_errors) {
+  const std::string ok = R"({"name":"x","category":"paint","nodes":[
+    {"id":"c","type":"uniform_color"},{"id":"r","type":"uniform_gray"},
+    {"id":"n","type":"normal","inputs":{"height":"r"}}],
+    "outputs":{"albedo":"c","normal":"n","roughness":"r"}})";
+  EXPECT_NO_THROW(ps::MaterialGraph::fromString(ok, "ok.json"));
+  auto bad = [&](std::string from, std::string to) {
+    std::string s = ok;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("paint", "lava"), "b.json"), ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("uniform_gray", "nope"), "b.json"), ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("\"albedo\":\"c\"", "\"albedo\":\"zz\""), "b.json"), ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("\"normal\":\"n\"", "\"normal\":\"r\""), "b.json"), ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString("{", "b.json"), ps::InputError);
+  // a cycle
+  const std::string cyc = R"({"name":"x","category":"paint","nodes":[
+    {"id":"a","type":"invert","inputs":{"in":"b"}},{"id":"b","type":"invert","inputs":{"in":"a"}},
+    {"id":"n","type":"normal","inputs":{"height":"a"}}],
+    "outputs":{"albedo":"a","normal":"n","roughness":"a"}})";
+  EXPECT_THROW(ps::MaterialGraph::fromString(cyc, "c.json"), ps::InputError);
+  try {
+    ps::MaterialGraph::fromString(bad("paint", "lava"), "b.json");
+  } catch (const ps::InputError& e) {
+    EXPECT_EQ(e.file(), "b.json");
+    EXPECT_EQ(e.where(), "category");
+  }
+}
+
+// Every continuous parameter of every graph; double precision; same tolerance as the nodes.
+TEST(Graph_Library, every_graph_gradient_matches_finite_differences) {
+  ps::GradientCheckOptions o;
+  o.size = 32;
+  o.absTol = 1e-4;
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    const auto rep = ps::checkGraphGradients(g, o);
+    EXPECT_TRUE(rep.ok()) << name << ":\n" << rep.summary();
+    g.setValues(g.randomValues(3, 0.3f));
+    const auto rep2 = ps::checkGraphGradients(g, o);
+    EXPECT_TRUE(rep2.ok()) << name << " (random values):\n" << rep2.summary();
+  }
+}
+
+TEST(Graph_Library, outputs_in_range_for_random_parameters) {
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    for (int s = 0; s < 3; ++s) {
+      g.setValues(g.randomValues(100 + s, 1.0f));
+      const auto m = g.evaluate(32);
+      double lo, hi;
+      for (const cv::Mat* map : {&m.albedo, &m.roughness, &m.metallic, &m.height}) {
+        if (map->empty()) continue;
+        ASSERT_TRUE(ps::allFinite(*map)) << name;
+        cv::minMaxLoc(map->reshape(1), &lo, &hi);
+        EXPECT_GE(lo, 0.0) << name;
+        EXPECT_LE(hi, 1.0) << name;
+      }
+      ASSERT_TRUE(ps::allFinite(m.normal)) << name;
+      for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+          const cv::Vec3f n = m.normal.at<cv::Vec3f>(y, x);
+          ASSERT_NEAR(cv::norm(n), 1.0, 1e-4) << name;
+          ASSERT_GT(n[2], 0.f) << name;
+        }
+    }
+  }
+}
+
+// Wrap-around seam differences have the statistics of interior neighbor differences: the mean
+// |difference| across the seam (column n-1 -> 0, row n-1 -> 0) is at most 1.3 x that across the
+// worst interior column / row (patterns with period 1/k put a tile border on the seam, so the
+// seam is compared with interior borders, not with the average), and a random shift of the
+// texture leaves the mean interior difference unchanged within 10%.
+TEST(Graph_Library, every_output_tiles) {
+  const int n = 64;
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    const auto m = g.evaluate(n);
+    for (int k = 0; k < ps::kMapKindCount; ++k) {
+      const cv::Mat& a = m.get(ps::MapKind(k));
+      if (a.empty()) continue;
+      const cv::Mat f = a.reshape(1, n);  // n rows, n*c cols
+      const int c = a.channels();
+      std::vector<double> colDiff(n, 0), rowDiff(n, 0);
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+          for (int q = 0; q < c; ++q) {
+            colDiff[x] += std::abs(f.at<float>(y, ((x + 1) % n) * c + q) - f.at<float>(y, x * c + q));
+            rowDiff[y] += std::abs(f.at<float>((y + 1) % n, x * c + q) - f.at<float>(y, x * c + q));
+          }
+      const double maxCol = *std::max_element(colDiff.begin(), colDiff.end() - 1);
+      const double maxRow = *std::max_element(rowDiff.begin(), rowDiff.end() - 1);
+      const double tol = 1e-3 * n * c;
+      EXPECT_LE(colDiff[n - 1], 1.3 * maxCol + tol) << name << " " << ps::mapKindName(ps::MapKind(k)) << " u seam";
+      EXPECT_LE(rowDiff[n - 1], 1.3 * maxRow + tol) << name << " " << ps::mapKindName(ps::MapKind(k)) << " v seam";
+      // the texture rolled by (n/2 + 3, n/2 + 5): the interior mean must not change
+      cv::Mat r(a.size(), a.type());
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+          std::memcpy(r.ptr<float>((y + n / 2 + 5) % n) + ((x + n / 2 + 3) % n) * c, a.ptr<float>(y) + x * c, sizeof(float) * c);
+      cv::Mat dA = a.colRange(1, n) - a.colRange(0, n - 1), dR = r.colRange(1, n) - r.colRange(0, n - 1);
+      EXPECT_NEAR(meanAbs(dR), meanAbs(dA), 0.1 * meanAbs(dA) + 1e-3) << name << " " << ps::mapKindName(ps::MapKind(k)) << " rolled";
+    }
+  }
+}
+
+// 1024 box-downsampled to 256 vs 256, both low-passed (gaussian sigma 2 px at 256): mean absolute
+// difference < 0.03 for albedo and roughness, < 0.08 for normals (slopes of octaves above the
+// 256 px Nyquist limit alias differently).
+TEST(Graph_Library, resolution_independent) {
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    const auto hi = g.evaluate(1024, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    const auto lo = g.evaluate(256, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    for (auto k : {ps::MapKind::Albedo, ps::MapKind::Roughness, ps::MapKind::Normal}) {
+      cv::Mat d, a, b;
+      cv::resize(hi.get(k), d, cv::Size(256, 256), 0, 0, cv::INTER_AREA);
+      cv::GaussianBlur(d, a, cv::Size(0, 0), 2.0, 2.0, cv::BORDER_REFLECT);
+      cv::GaussianBlur(lo.get(k), b, cv::Size(0, 0), 2.0, 2.0, cv::BORDER_REFLECT);
+      const double err = meanAbs(a - b);
+      EXPECT_LT(err, k == ps::MapKind::Normal ? 0.08 : 0.03) << name << " " << ps::mapKindName(k);
+    }
+  }
+}
+
+TEST(Graph_Engine, caches_unchanged_nodes_and_computes_only_requested_outputs) {
+  ps::MaterialGraph g = lib().create("wood_planks");
+  g.evaluate(64, ps::MapSet::of({ps::MapKind::Roughness}));
+  const auto r1 = g.nodeRuns();
+  g.evaluate(64, ps::MapSet::of({ps::MapKind::Roughness}));
+  EXPECT_EQ(g.nodeRuns(), r1);  // nothing changed
+  g.evaluate(64);
+  const auto r2 = g.nodeRuns();
+  EXPECT_GT(r2, r1);  // albedo / normal nodes ran now
+  g.setParameter("roughness_max", {0.3f});
+  g.evaluate(64);
+  EXPECT_EQ(g.nodeRuns(), r2 + 1);  // only the roughness levels node
+  g.setParameter("albedo_offset", {0.1f, 0.f, 0.f});
+  g.evaluate(64);
+  EXPECT_EQ(g.nodeRuns(), r2 + 1);  // the offset is applied after the nodes
+  g.clearCache();
+  g.evaluate(64);
+  EXPECT_GT(g.nodeRuns(), r2 + 1);
+}
+
+TEST(Graph_Engine, albedo_offset_shifts_albedo_and_same_seed_same_values) {
+  ps::MaterialGraph g = lib().create("paint_matte_wall");
+  const auto a = g.evaluate(32).albedo.clone();
+  g.setParameter("albedo_offset", {0.05f, 0.f, -0.05f});
+  const auto b = g.evaluate(32).albedo;
+  EXPECT_NEAR(cv::mean(b)[0] - cv::mean(a)[0], 0.05, 1e-4);
+  EXPECT_NEAR(cv::mean(b)[2] - cv::mean(a)[2], -0.05, 1e-4);
+  EXPECT_EQ(g.randomValues(9), g.randomValues(9));
+  EXPECT_NE(g.randomValues(9), g.randomValues(10));
+}
+
+// ------------------------------------------------------------------ self-fit
+namespace {
+struct FitResult {
+  double initial, final;
+};
+FitResult selfFit(ps::MaterialGraph& g, uint64_t seed, int iters, int size) {
+  const std::vector<float> target = g.randomValues(seed, 0.5f);
+  g.setValues(target);
+  const auto t = g.evaluate(size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+  const ps::MaterialMaps tm{t.albedo.clone(), t.normal.clone(), t.roughness.clone(), {}, {}};
+  // perturbed start: every continuous value moved by up to 20% of its range; discrete kept
+  std::vector<float> x = target;
+  ps::Rng rng(seed + 99);
+  const auto mask = g.differentiableMask();
+  std::vector<float> range(x.size(), 1.f);
+  for (const auto& p : g.parameters())
+    for (int k = 0; k < p.dim; ++k) range[p.offset + k] = p.max - p.min;
+  for (size_t i = 0; i < x.size(); ++i)
+    if (mask[i]) x[i] += range[i] * 0.2f * (rng.uniform() * 2 - 1);
+  x = g.projectValues(x);
+  auto lossAndGrad = [&](std::vector<float>* grad) {
+    g.setValues(x);
+    const auto m = g.evaluate(size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    double L = 0;
+    ps::MaterialMaps d;
+    for (auto k : {ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}) {
+      cv::Mat diff = m.get(k) - tm.get(k);
+      const double cnt = double(diff.total() * diff.channels());
+      L += diff.dot(diff) / cnt;
+      d.get(k) = diff * (2.0 / cnt);
+    }
+    if (grad) *grad = g.backward(d);
+    return L;
+  };
+  const double L0 = lossAndGrad(nullptr);
+  // Adam in normalized parameter units
+  std::vector<double> m1(x.size(), 0), m2(x.size(), 0);
+  const double lr = 0.01, b1 = 0.9, b2 = 0.999;
+  double best = L0;
+  for (int it = 1; it <= iters; ++it) {
+    std::vector<float> gr;
+    best = std::min(best, lossAndGrad(&gr));
+    for (size_t i = 0; i < x.size(); ++i) {
+      if (!mask[i]) continue;
+      const double gi = gr[i] * range[i];
+      m1[i] = b1 * m1[i] + (1 - b1) * gi;
+      m2[i] = b2 * m2[i] + (1 - b2) * gi * gi;
+      const double mh = m1[i] / (1 - std::pow(b1, it)), vh = m2[i] / (1 - std::pow(b2, it));
+      x[i] -= float(range[i] * lr * mh / (std::sqrt(vh) + 1e-8));
+    }
+    x = g.projectValues(x);
+  }
+  best = std::min(best, lossAndGrad(nullptr));
+  return {L0, best};
+}
+}  // namespace
+
+TEST(Graph_Library, self_fit_with_adam_reduces_error_for_most_graphs) {
+  int pass = 0, total = 0;
+  std::string failed;
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    const FitResult r = selfFit(g, 7, 120, 32);
+    const double red = r.initial > 0 ? 1.0 - r.final / r.initial : 1.0;
+    ++total;
+    if (red >= 0.9) ++pass;
+    else failed += "  " + name + ": " + std::to_string(int(red * 100)) + "% (loss " + std::to_string(r.initial) + " -> " + std::to_string(r.final) + ")\n";
+    EXPECT_LE(r.final, r.initial + 1e-12) << name;
+  }
+  std::printf("self-fit: %d / %d graphs reduce the map error by >= 90%%\n%s", pass, total, failed.c_str());
+  EXPECT_GE(pass, int(0.75 * total)) << failed;
+}
