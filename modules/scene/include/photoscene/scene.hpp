@@ -3,5 +3,6 @@
 
 #include "photoscene/scene/camera.hpp"
 #include "photoscene/scene/lights.hpp"
+#include "photoscene/scene/material.hpp"
 #include "photoscene/scene/mesh.hpp"
 #include "photoscene/scene/scene.hpp"

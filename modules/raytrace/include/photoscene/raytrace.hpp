@@ -1,0 +1,8 @@
+// photoscene raytrace: Embree BVH, G-buffers, a path tracer (area + environment lights,
+// Lambert + GGX, NEE + MIS), one-light-at-a-time images, incident-light grids, twin rendering.
+#pragma once
+
+#include "photoscene/raytrace/accel.hpp"
+#include "photoscene/raytrace/bsdf.hpp"
+#include "photoscene/raytrace/gbuffer.hpp"
+#include "photoscene/raytrace/path_tracer.hpp"

@@ -1,0 +1,129 @@
+// Unidirectional path tracer with next-event estimation and multiple importance sampling
+// (power heuristic) over the scene's area emitters (OBJ parts and rectangles, one-sided) and its
+// environment (constant or equirectangular image, importance-sampled by luminance x sin(theta);
+// with window parts it is seen only through them and is sampled through the window triangles).
+//
+// Materials: ps::PartMaterial per part (contract's Lambert + GGX, maps through each part's UV
+// transform, tangent-space normal maps in the frame of t). Window parts are openings: rays pass
+// through them. Bounce rules follow Cycles (max / diffuse / glossy limits; a path that reaches
+// a limit still collects emission at its next hit), Russian roulette after `rouletteDepth`.
+//
+// Determinism: sample s of pixel (x, y) draws from Rng(seed).split(y * width + x), so a fixed
+// seed gives the same image on any thread count.
+//
+//   ps::PathTracer tracer(scene, materials);
+//   ps::RenderOptions opt;  opt.spp = 64;
+//   cv::Mat img = tracer.render(scene.views[0].camera, opt);   // CV_32FC3 linear RGB
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "photoscene/core/math.hpp"
+#include "photoscene/core/rng.hpp"
+#include "photoscene/raytrace/accel.hpp"
+#include "photoscene/raytrace/bsdf.hpp"
+#include "photoscene/scene/camera.hpp"
+#include "photoscene/scene/material.hpp"
+#include "photoscene/scene/scene.hpp"
+
+namespace ps {
+
+/// Which emitters shine.
+struct LightSelection {
+  enum class Kind { All, OneArea, EnvironmentOnly } kind = Kind::All;
+  int areaIndex = -1;  ///< Kind::OneArea: index into scene.lights.area
+  /// All: emitters without a radiance are an error; OneArea / EnvironmentOnly: the chosen
+  /// emitter shines with unit radiance (area) or its image x 1 (environment), for the
+  /// lighting least squares (image = sum_i radiance_i * image_i).
+  static LightSelection all() { return {}; }
+  static LightSelection area(int i) { return {Kind::OneArea, i}; }
+  static LightSelection environment() { return {Kind::EnvironmentOnly, -1}; }
+};
+
+enum class PixelFilter { Box, BlackmanHarris };
+
+struct RenderOptions {
+  int spp = 64;                 ///< samples per pixel
+  int maxBounces = 12;          ///< total scattering events (Cycles' max bounces)
+  int maxDiffuseBounces = 6;    ///< Cycles' diffuse bounce limit
+  int maxGlossyBounces = 4;     ///< Cycles' glossy bounce limit
+  int rouletteDepth = 3;        ///< Russian roulette from this bounce on (0 = from the first)
+  uint64_t seed = 0;
+  bool nextEventEstimation = true;  ///< false: BSDF sampling only (for tests)
+  PixelFilter filter = PixelFilter::BlackmanHarris;
+  float filterWidth = 1.5f;     ///< full width in pixels (Cycles' default 1.5)
+  LightSelection lights;
+  /// Clamp of a single sample's contribution (0 = none; Cycles' 'no clamping' is 0).
+  float clampSample = 0.0f;
+  bool IsValid(std::string* error) const;
+};
+
+struct RenderStats {
+  double seconds = 0;
+  uint64_t rays = 0;   ///< closest-hit + shadow rays traced
+  uint64_t samples = 0;
+  double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
+};
+
+/// A shading point on the mesh.
+struct SurfacePoint {
+  Vec3f p = Vec3f::Zero();
+  Vec3f ng = Vec3f::Zero();   ///< unit geometric normal (winding order), not flipped
+  Vec3f ns = Vec3f::Zero();   ///< unit interpolated shading normal, on ng's side
+  Vec2f uv = Vec2f::Zero();   ///< OBJ texture coordinates
+  Vec3f dpdu = Vec3f::Zero(), dpdv = Vec3f::Zero();  ///< of the triangle (zero when degenerate)
+  int triangle = -1, part = -1;
+};
+
+class PathTracer {
+ public:
+  /// @param scene      geometry, parts and lights (kept by reference: must outlive the tracer)
+  /// @param materials  one per part (kept by reference); missing entries render gray
+  PathTracer(const Scene& scene, const std::vector<PartMaterial>& materials);
+  ~PathTracer();
+
+  /// Renders a linear RGB image (CV_32FC3, camera.width() x camera.height()).
+  cv::Mat render(const Camera& camera, const RenderOptions& options, RenderStats* stats = nullptr) const;
+  /// One image per area emitter (unit radiance) and, last, one for the environment when the
+  /// scene has one: the images the lighting least squares combines.
+  std::vector<cv::Mat> renderPerLight(const Camera& camera, const RenderOptions& options,
+                                      RenderStats* stats = nullptr) const;
+  /// Radiance arriving at `org` from direction -dir (i.e. seen along dir), one path sample.
+  /// `rays` (optional) is incremented by the rays traced.
+  Vec3f radiance(const Vec3f& org, const Vec3f& dir, const RenderOptions& options, Rng& rng,
+                 uint64_t* rays = nullptr) const;
+
+  const RayAccel& accel() const { return *accel_; }
+  const Scene& scene() const { return scene_; }
+  /// The surface point of a mesh hit (geometry 0).
+  SurfacePoint surfacePoint(const RayHit& hit) const;
+  /// Material of a part (gray default when `materials` had no entry).
+  const PartMaterial& material(int part) const;
+  bool isWindowPart(int part) const;
+  double buildSeconds() const;
+
+  struct Lights;  // emitter sampling tables (private)
+
+ private:
+  const Scene& scene_;
+  const std::vector<PartMaterial>& materials_;
+  PartMaterial gray_;
+  std::unique_ptr<RayAccel> accel_;
+  std::vector<uint8_t> windowPart_;
+  std::vector<Vec3f> triNormal_, triDpdu_, triDpdv_;
+  std::unique_ptr<Lights> lights_;
+  double setupSeconds_ = 0;
+};
+
+/// The shading frame of a surface point for a material (tangent frame of t + normal map),
+/// oriented to the side of `wo` (unit, pointing away from the surface). Returns the shading
+/// normal used and writes T, B.
+Vec3f shadingFrame(const SurfacePoint& sp, const PartMaterial& material, const MaterialSample& ms,
+                   const Vec3f& wo, Vec3f* T, Vec3f* B);
+
+}  // namespace ps

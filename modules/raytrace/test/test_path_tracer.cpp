@@ -1,0 +1,370 @@
+// Physics of the path tracer on analytic scenes: white furnace, emitting closed sphere, form
+// factor of a square light; determinism; G-buffers.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "test_scenes.hpp"
+
+namespace ps {
+namespace {
+
+using namespace ps::test;
+
+// Mean of channel 1 over pixels where `mask` is set.
+double maskedMean(const cv::Mat& img, const cv::Mat& mask, int channel = 1) {
+  double s = 0;
+  int n = 0;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x)
+      if (mask.at<uint8_t>(y, x)) {
+        s += img.at<cv::Vec3f>(y, x)[channel];
+        ++n;
+      }
+  return n ? s / n : 0.0;
+}
+
+Scene furnaceScene() {
+  Scene s;
+  const int part = addPart(s, "sphere");
+  addSphere(s.mesh, Vec3f(0, 0, 0), 1.0f, part, false, 32, 64);
+  EnvironmentLight env;
+  env.radiance = Vec3f(2.0f, 2.0f, 2.0f);
+  s.lights.environment = env;
+  return s;
+}
+
+TEST(Raytrace_PathTracer, white_furnace_lambert_sphere) {
+  const Scene scene = furnaceScene();
+  for (float albedo : {1.0f, 0.5f}) {
+    std::vector<PartMaterial> mats{lambert("sphere", albedo)};
+    const PathTracer tracer(scene, mats);
+    const Camera cam = makeCamera(64, 64, 110, Vec3d(0, 0.5, 4), Vec3d(0, 0, 0));
+    RenderOptions opt;
+    opt.spp = 64;
+    opt.maxBounces = opt.maxDiffuseBounces = 64;
+    const cv::Mat img = tracer.render(cam, opt);
+    ASSERT_TRUE(allFinite(img));
+    const GBuffer gb = renderGBuffer(tracer, cam, {1});
+    cv::Mat inner;  // sphere pixels away from the silhouette
+    cv::erode(gb.mask[0], inner, cv::Mat::ones(5, 5, CV_8U));
+    ASSERT_GT(cv::countNonZero(inner), 1000);
+    const double mean = maskedMean(img, inner);
+    EXPECT_NEAR(mean, albedo * 2.0, 0.01 * albedo * 2.0) << "albedo " << albedo;
+    cv::Mat bg = gb.partId < 0;
+    EXPECT_NEAR(maskedMean(img, bg), 2.0, 1e-5);
+  }
+}
+
+TEST(Raytrace_PathTracer, white_furnace_with_image_environment_and_ggx) {
+  // Same furnace with an environment *image* of constant value (exercises its importance
+  // sampling) and a specular lobe: albedo 1 diffuse + F0 = 0 is exact; with metallic 1 and
+  // albedo 1, GGX may only lose energy (<= L), and not much at low roughness.
+  Scene scene = furnaceScene();
+  scene.lights.environment->image = cv::Mat(32, 64, CV_32FC3, cv::Scalar::all(1.0));
+  scene.lights.environment->radiance = Vec3f::Constant(2.0f);
+  PartMaterial metal = PartMaterial::defaultGray("sphere");
+  metal.albedo = Vec3f::Ones();
+  metal.metallic = 1.0f;
+  metal.roughness = 0.3f;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<PartMaterial> mats{k == 0 ? lambert("sphere", 1.0f) : metal};
+    const PathTracer tracer(scene, mats);
+    const Camera cam = makeCamera(48, 48, 45, Vec3d(0, 0.5, 4), Vec3d(0, 0, 0));
+    RenderOptions opt;
+    opt.spp = 64;
+    const cv::Mat img = tracer.render(cam, opt);
+    ASSERT_TRUE(allFinite(img));
+    const GBuffer gb = renderGBuffer(tracer, cam, {1});
+    cv::Mat inner;
+    cv::erode(gb.mask[0], inner, cv::Mat::ones(5, 5, CV_8U));
+    const double mean = maskedMean(img, inner);
+    if (k == 0) EXPECT_NEAR(mean, 2.0, 0.02);
+    else {
+      EXPECT_LE(mean, 2.0 * 1.01);
+      EXPECT_GE(mean, 2.0 * 0.9);
+    }
+  }
+}
+
+TEST(Raytrace_PathTracer, closed_emitting_sphere_converges_to_Le_over_one_minus_albedo) {
+  Scene scene;
+  const int part = addPart(scene, "shell");
+  addSphere(scene.mesh, Vec3f(0, 0, 0), 1.0f, part, true, 24, 48);
+  AreaLight light;
+  light.name = "shell";
+  light.kind = AreaLight::Kind::Part;
+  light.partId = part;
+  light.radiance = Vec3f(1.0f, 1.0f, 1.0f);
+  scene.lights.area.push_back(light);
+  for (float a : {0.5f, 0.8f}) {
+    std::vector<PartMaterial> mats{lambert("shell", a)};
+    const PathTracer tracer(scene, mats);
+    const Camera cam = makeCamera(24, 24, 20, Vec3d(0.1, 0.2, 0.3), Vec3d(0.5, 0, -1));
+    RenderOptions opt;
+    opt.spp = 64;
+    opt.maxBounces = opt.maxDiffuseBounces = 1000;
+    opt.rouletteDepth = 2;
+    const cv::Mat img = tracer.render(cam, opt);
+    ASSERT_TRUE(allFinite(img));
+    const double mean = cv::mean(img)[1];
+    EXPECT_NEAR(mean, 1.0 / (1.0 - a), 0.01 / (1.0 - a)) << "albedo " << a;
+  }
+}
+
+// Point-to-rectangle form factor (parallel planes), for a point below corner (0, 0) of a
+// rectangle [0, X] x [0, Y] at distance 1 (signed X, Y).
+double cornerFormFactor(double X, double Y) {
+  const double a = std::sqrt(1 + X * X), b = std::sqrt(1 + Y * Y);
+  return (X / a * std::atan(Y / a) + Y / b * std::atan(X / b)) / (2 * kPiD);
+}
+double rectFormFactor(double px, double pz, double x0, double x1, double z0, double z1, double h) {
+  auto f = [&](double x, double z) { return cornerFormFactor((x - px) / h, (z - pz) / h); };
+  return f(x1, z1) - f(x0, z1) - f(x1, z0) + f(x0, z0);
+}
+
+TEST(Raytrace_PathTracer, lambert_plane_under_square_light_matches_form_factor) {
+  Scene scene;
+  const int floor = addPart(scene, "floor");
+  addQuad(scene.mesh, Vec3f(-5, 0, 5), Vec3f(10, 0, 0), Vec3f(0, 0, -10), floor);  // normal +y
+  AreaLight light;
+  light.name = "square";
+  light.kind = AreaLight::Kind::Rectangle;
+  const float h = 1.5f, side = 1.0f;
+  light.center = Vec3f(0, h, 0);
+  light.edgeU = Vec3f(side, 0, 0);
+  light.edgeV = Vec3f(0, 0, side);  // u x v = -y: faces down
+  light.radiance = Vec3f(10, 10, 10);
+  scene.lights.area.push_back(light);
+  std::vector<PartMaterial> mats{lambert("floor", 1.0f)};
+  const PathTracer tracer(scene, mats);
+  RenderOptions opt;
+  opt.maxBounces = 4;
+  for (const Vec2f& pt : {Vec2f(0, 0), Vec2f(0.3f, -0.2f), Vec2f(1.2f, 0.7f)}) {
+    const Vec3f target(pt.x(), 0, pt.y());
+    const Vec3f eye = target + Vec3f(0.8f, 0.6f, 0.3f);
+    const Vec3f dir = (target - eye).normalized();
+    Rng base(11);
+    double sum = 0;
+    const int n = 40000;
+    for (int i = 0; i < n; ++i) {
+      Rng rng = base.split(i);
+      sum += tracer.radiance(eye, dir, opt, rng).y();
+    }
+    const double F = rectFormFactor(pt.x(), pt.y(), -0.5, 0.5, -0.5, 0.5, h);
+    // Lambertian albedo 1: L_o = E / pi = Le * F
+    EXPECT_NEAR(sum / n, 10.0 * F, 0.01 * 10.0 * F) << "point " << pt.transpose();
+  }
+}
+
+TEST(Raytrace_PathTracer, fixed_seed_same_image_on_any_thread_count) {
+  Scene scene = furnaceScene();
+  std::vector<PartMaterial> mats{lambert("sphere", 0.7f)};
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(40, 30, 40, Vec3d(0, 0.5, 4), Vec3d(0, 0, 0));
+  RenderOptions opt;
+  opt.spp = 4;
+  opt.seed = 42;
+  cv::Mat a, b, c;
+  {
+    ThreadLimit one(1);
+    a = tracer.render(cam, opt);
+  }
+  b = tracer.render(cam, opt);
+  opt.seed = 43;
+  c = tracer.render(cam, opt);
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(a, c, cv::NORM_INF), 0.0);
+}
+
+// A box room with a textured, normal-mapped, rotated floor, a metal and a mirror-smooth part,
+// degenerate triangles and UVs, a window and two lights: nothing non-finite comes out, and the
+// per-light images add up to the full render.
+Scene boxRoom(std::vector<PartMaterial>* mats) {
+  Scene s;
+  const int floor = addPart(s, "floor"), walls = addPart(s, "walls"), ceiling = addPart(s, "ceiling");
+  const int window = addPart(s, "window"), lamp = addPart(s, "lamp"), junk = addPart(s, "junk");
+  Mesh& m = s.mesh;
+  const float X = 4, Y = 2.5f, Z = 3;
+  addQuad(m, Vec3f(0, 0, Z), Vec3f(X, 0, 0), Vec3f(0, 0, -Z), floor, X, Z);   // up
+  addQuad(m, Vec3f(0, Y, 0), Vec3f(X, 0, 0), Vec3f(0, 0, Z), ceiling, X, Z);   // down
+  addQuad(m, Vec3f(0, 0, 0), Vec3f(X, 0, 0), Vec3f(0, Y, 0), walls, X, Y);     // +z
+  addQuad(m, Vec3f(X, 0, Z), Vec3f(-X, 0, 0), Vec3f(0, Y, 0), walls, X, Y);    // -z
+  addQuad(m, Vec3f(0, 0, Z), Vec3f(0, 0, -Z), Vec3f(0, Y, 0), walls, Z, Y);    // +x
+  // east wall with a 1 x 1 m window opening at (x = X, y 1..2, z 1..2)
+  const Vec3f e(X, 0, 0);
+  addQuad(m, e, Vec3f(0, 0, 1), Vec3f(0, Y, 0), walls);
+  addQuad(m, e + Vec3f(0, 0, 2), Vec3f(0, 0, Z - 2), Vec3f(0, Y, 0), walls);
+  addQuad(m, e + Vec3f(0, 0, 1), Vec3f(0, 0, 1), Vec3f(0, 1, 0), walls);
+  addQuad(m, e + Vec3f(0, 2, 1), Vec3f(0, 0, 1), Vec3f(0, Y - 2, 0), walls);
+  addQuad(m, e + Vec3f(0, 1, 1), Vec3f(0, 0, 1), Vec3f(0, 1, 0), window);
+  addQuad(m, Vec3f(1, Y - 0.01f, 1), Vec3f(0.5f, 0, 0), Vec3f(0, 0, 0.5f), lamp);  // normal -y
+  // junk: a degenerate triangle, a triangle with degenerate uvs, a small glossy box face
+  addTriangle(m, Vec3f(1, 1, 1), Vec3f(1, 1, 1), Vec3f(2, 1, 1), junk);
+  addTriangle(m, Vec3f(1, 0.5f, 1), Vec3f(2, 0.5f, 1.2f), Vec3f(1.5f, 1.0f, 1.5f), junk, Vec2f(0, 0), Vec2f(0, 0), Vec2f(0, 0));
+  addQuad(m, Vec3f(2.5f, 0.01f, 2), Vec3f(0.5f, 0.3f, 0), Vec3f(0, 0, -0.5f), junk);
+  AreaLight l1;
+  l1.name = "lamp";
+  l1.kind = AreaLight::Kind::Part;
+  l1.partId = lamp;
+  l1.radiance = Vec3f(20, 18, 15);
+  AreaLight l2;
+  l2.name = "rect";
+  l2.kind = AreaLight::Kind::Rectangle;
+  l2.center = Vec3f(3, Y - 0.02f, 2);
+  l2.edgeU = Vec3f(0.4f, 0, 0);
+  l2.edgeV = Vec3f(0, 0, -0.4f);  // faces down
+  l2.radiance = Vec3f(10, 10, 12);
+  s.lights.area = {l1, l2};
+  EnvironmentLight env;
+  env.image = cv::Mat(16, 32, CV_32FC3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) env.image.at<cv::Vec3f>(y, x) = cv::Vec3f(0.2f + x / 32.0f, 1.0f - y / 16.0f, 0.5f);
+  env.radiance = Vec3f(3, 3, 3);
+  env.windowParts = {window};
+  s.lights.environment = env;
+  mats->assign(s.parts.size(), PartMaterial());
+  for (const Part& p : s.parts) (*mats)[p.id] = PartMaterial::defaultGray(p.name);
+  PartMaterial& f = (*mats)[floor];
+  cv::Mat alb(8, 8, CV_32FC3), nrm(8, 8, CV_32FC3), rough(8, 8, CV_32FC1);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      alb.at<cv::Vec3f>(y, x) = ((x + y) % 2) ? cv::Vec3f(0.8f, 0.6f, 0.4f) : cv::Vec3f(0.1f, 0.1f, 0.1f);
+      const Vec3f n = Vec3f(0.3f * std::sin(x), 0.3f * std::cos(y), 1).normalized();
+      nrm.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
+      rough.at<float>(y, x) = (x % 3 == 0) ? 0.0f : 0.6f;
+    }
+  f.albedoMap = FloatTexture(alb);
+  f.normalMap = FloatTexture(nrm);
+  f.roughnessMap = FloatTexture(rough);
+  f.uv.rotationDeg = 30;
+  f.uv.scale = Vec2f(0.7f, 0.5f);
+  f.uv.offset = Vec2f(0.1f, 0.2f);
+  (*mats)[junk].albedo = Vec3f(0.9f, 0.9f, 0.9f);
+  (*mats)[junk].metallic = 1.0f;
+  (*mats)[junk].roughness = 0.0f;
+  for (int p : {window, lamp}) {
+    (*mats)[p].albedo = Vec3f::Zero();
+    (*mats)[p].metallic = 1.0f;
+  }
+  (*mats)[walls].roughness = 1.0f;
+  return s;
+}
+
+TEST(Raytrace_PathTracer, box_room_finite_and_per_light_images_add_up) {
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(48, 36, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  RenderOptions opt;
+  opt.spp = 48;
+  const cv::Mat full = tracer.render(cam, opt);
+  ASSERT_TRUE(allFinite(full));
+  const std::vector<cv::Mat> per = tracer.renderPerLight(cam, opt);
+  ASSERT_EQ(per.size(), 3u);  // lamp, rect, environment
+  cv::Mat sum(full.size(), CV_32FC3, cv::Scalar::all(0));
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(allFinite(per[i]));
+    const Vec3f r = *scene.lights.area[i].radiance;
+    std::vector<cv::Mat> ch;
+    cv::split(per[i], ch);
+    for (int c = 0; c < 3; ++c) ch[c] *= r[c];
+    cv::Mat scaled;
+    cv::merge(ch, scaled);
+    sum += scaled;
+  }
+  {
+    std::vector<cv::Mat> ch;
+    cv::split(per[2], ch);
+    for (int c = 0; c < 3; ++c) ch[c] *= scene.lights.environment->radiance[c];
+    cv::Mat scaled;
+    cv::merge(ch, scaled);
+    sum += scaled;
+  }
+  // unbiased estimates of the same image: the means agree to the noise level
+  const cv::Scalar a = cv::mean(full), b = cv::mean(sum);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.03 * a[c]) << "channel " << c;
+  EXPECT_GT(a[0], 0.01);
+}
+
+TEST(Raytrace_GBuffer, depth_parts_derivatives_and_coverage) {
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(64, 48, 40, Vec3d(2, 1.5, 2.9), Vec3d(2, 0.0, 0.5));
+  const GBuffer gb = renderGBuffer(tracer, cam, {4});
+  const int floor = 0;
+  ASSERT_FALSE(gb.mask[floor].empty());
+  int checked = 0;
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x) {
+      if (gb.partId.at<int>(y, x) != floor) continue;
+      // the floor is y = 0: the world point is where the pixel ray meets it
+      const Vec3d d = cam.rayDirection(x, y);
+      const Vec3d o = cam.position();
+      const double t = -o.y() / d.y();
+      const Vec3d p = o + t * d;
+      const cv::Vec3f gp = gb.position.at<cv::Vec3f>(y, x);
+      EXPECT_NEAR(gp[0], p.x(), 1e-4);
+      EXPECT_NEAR(gp[2], p.z(), 1e-4);
+      EXPECT_NEAR(gb.depth.at<float>(y, x), cam.toCamera(p).z(), 1e-4);
+      // floor uv = (x, Z - z): d(uv)/d(pixel) from the neighbouring ray's floor point
+      const Vec3d dx = cam.rayDirection(x + 1, y);
+      const Vec3d px = o + (-o.y() / dx.y()) * dx;
+      const cv::Vec2f duv = gb.duvdx.at<cv::Vec2f>(y, x);
+      EXPECT_NEAR(duv[0], px.x() - p.x(), 1e-4);
+      EXPECT_NEAR(duv[1], -(px.z() - p.z()), 1e-4);
+      const cv::Vec3f n = gb.normalGeo.at<cv::Vec3f>(y, x);
+      EXPECT_NEAR(n[1], 1.0f, 1e-5);
+      const cv::Vec3f tg = gb.tangent.at<cv::Vec3f>(y, x);
+      EXPECT_NEAR(tg[0], 1.0f, 1e-4);  // dP/du = +x
+      ++checked;
+    }
+  EXPECT_GT(checked, 500);
+  // coverage: in [0, 1], sums to 1 over parts where every sub-ray hits, 1 inside masks away from edges
+  cv::Mat total(cam.height(), cam.width(), CV_32FC1, cv::Scalar(0));
+  for (const cv::Mat& c : gb.coverage)
+    if (!c.empty()) total += c;
+  double minv, maxv;
+  cv::minMaxLoc(total, &minv, &maxv);
+  EXPECT_NEAR(maxv, 1.0, 1e-5);
+  cv::Mat inner;
+  cv::erode(gb.mask[floor], inner, cv::Mat::ones(3, 3, CV_8U));
+  cv::Mat cov = gb.coverage[floor];
+  cv::minMaxLoc(cov, &minv, &maxv, nullptr, nullptr, inner);
+  EXPECT_NEAR(minv, 1.0, 1e-6);
+  // anti-aliased edge: some floor pixels are partially covered
+  int partial = 0;
+  for (int y = 0; y < cov.rows; ++y)
+    for (int x = 0; x < cov.cols; ++x)
+      if (cov.at<float>(y, x) > 0.01f && cov.at<float>(y, x) < 0.99f) ++partial;
+  EXPECT_GT(partial, 10);
+}
+
+TEST(Raytrace_Material, uv_transform_and_texture_orientation) {
+  // t = (0, 0) is the bottom-left corner of the map: row H-1, column 0.
+  cv::Mat img(4, 4, CV_32FC1, cv::Scalar(0));
+  img.at<float>(3, 0) = 1.0f;  // bottom-left texel
+  const FloatTexture tex(img);
+  EXPECT_NEAR(tex.sample(Vec2f(0.125f, 0.125f)).x(), 1.0f, 1e-6);
+  EXPECT_NEAR(tex.sample(Vec2f(0.125f, 0.875f)).x(), 0.0f, 1e-6);
+  EXPECT_NEAR(tex.sample(Vec2f(1.125f, -0.875f)).x(), 1.0f, 1e-6);  // period 1
+  UvTransform t;
+  t.rotationDeg = 90;
+  t.scale = Vec2f(2, 3);
+  t.offset = Vec2f(0.1f, 0.2f);
+  const Vec2f r = t.apply(Vec2f(1, 0));  // S: (2, 0); R90: (0, 2); + offset
+  EXPECT_NEAR(r.x(), 0.1f, 1e-6);
+  EXPECT_NEAR(r.y(), 2.2f, 1e-6);
+  // tangent frame of t: for dP/du = +x, dP/dv = +z and a 90 degree rotation, dP/dt_u = -z / ...
+  Vec3f T, B;
+  UvTransform rot;
+  rot.rotationDeg = 90;
+  ASSERT_TRUE(tangentFrame(Vec3f(1, 0, 0), Vec3f(0, 0, 1), Vec3f(0, -1, 0), rot, &T, &B));
+  // t = R90 uv: t_u = -v, t_v = u, so dP/dt_u = -dP/dv = -z and dP/dt_v = dP/du = +x
+  EXPECT_NEAR(T.z(), -1.0f, 1e-5);
+  EXPECT_NEAR(B.x(), 1.0f, 1e-5);
+}
+
+}  // namespace
+}  // namespace ps

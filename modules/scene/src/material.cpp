@@ -1,0 +1,219 @@
+#include "photoscene/scene/material.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/image.hpp"
+#include "photoscene/core/timer.hpp"
+#include "photoscene/io/image_io.hpp"
+
+namespace ps {
+
+namespace fs = std::filesystem;
+
+FloatTexture::FloatTexture(const cv::Mat& image) {
+  PS_Check(image.type() == CV_32FC1 || image.type() == CV_32FC3,
+           "FloatTexture expects CV_32FC1 or CV_32FC3, got " << typeName(image.type()));
+  PS_Check(!image.empty(), "empty texture");
+  width_ = image.cols;
+  height_ = image.rows;
+  channels_ = image.channels();
+  data_.resize(static_cast<size_t>(width_) * height_ * channels_);
+  for (int y = 0; y < height_; ++y) {
+    const float* row = image.ptr<float>(y);
+    std::copy(row, row + width_ * channels_, data_.data() + static_cast<size_t>(y) * width_ * channels_);
+  }
+  for (float& v : data_)
+    if (!std::isfinite(v)) v = 0.0f;
+}
+
+Vec3f FloatTexture::texel(int x, int y) const {
+  x %= width_;
+  if (x < 0) x += width_;
+  y %= height_;
+  if (y < 0) y += height_;
+  const float* p = data_.data() + (static_cast<size_t>(y) * width_ + x) * channels_;
+  return channels_ == 3 ? Vec3f(p[0], p[1], p[2]) : Vec3f(p[0], 0.0f, 0.0f);
+}
+
+Vec3f FloatTexture::sample(const Vec2f& t) const {
+  if (data_.empty()) return Vec3f::Zero();
+  float tu = t.x() - std::floor(t.x()), tv = t.y() - std::floor(t.y());
+  if (!std::isfinite(tu)) tu = 0;
+  if (!std::isfinite(tv)) tv = 0;
+  const float x = tu * width_ - 0.5f, y = (1.0f - tv) * height_ - 0.5f;
+  const float fx0 = std::floor(x), fy0 = std::floor(y);
+  const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+  const float ax = x - fx0, ay = y - fy0;
+  return (1 - ay) * ((1 - ax) * texel(x0, y0) + ax * texel(x0 + 1, y0)) +
+         ay * ((1 - ax) * texel(x0, y0 + 1) + ax * texel(x0 + 1, y0 + 1));
+}
+
+UvTransform UvTransform::fromDesc(const io::UvTransformDesc& d) {
+  UvTransform t;
+  t.rotationDeg = static_cast<float>(d.rotationDeg);
+  t.scale = d.scale.cast<float>();
+  t.offset = d.offset.cast<float>();
+  return t;
+}
+
+Eigen::Matrix2f UvTransform::linear() const {
+  const float a = radians(rotationDeg);
+  const float c = std::cos(a), s = std::sin(a);
+  Eigen::Matrix2f R;
+  R << c, -s, s, c;
+  return R * scale.asDiagonal();
+}
+
+PartMaterial PartMaterial::defaultGray(const std::string& part) {
+  PartMaterial m;
+  m.part = part;
+  return m;
+}
+
+namespace {
+FloatTexture readMap(const fs::path& path, const std::string& file, const std::string& key, bool color,
+                     bool normal) {
+  if (!fs::exists(path)) throw InputError(file, key, "a map file, but " + path.string() + " does not exist");
+  cv::Mat img;
+  if (color) {
+    img = io::readImage(path);  // sRGB decode for 8/16-bit, linear for float files
+  } else {
+    img = io::readDataImage(path);
+    if (normal) {
+      PS_Check(img.channels() >= 3, "");
+      cv::Mat rgb(img.rows, img.cols, CV_32FC3);
+      for (int y = 0; y < img.rows; ++y)
+        for (int x = 0; x < img.cols; ++x) {
+          const float* p = img.ptr<float>(y) + x * img.channels();
+          Vec3f n(2 * p[0] - 1, 2 * p[1] - 1, 2 * p[2] - 1);
+          const float len = n.norm();
+          n = len > 1e-6f && std::isfinite(len) ? Vec3f(n / len) : Vec3f(0, 0, 1);
+          rgb.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
+        }
+      img = rgb;
+    } else if (img.channels() != 1) {
+      std::vector<cv::Mat> ch;
+      cv::split(img, ch);
+      img = ch[0];
+    }
+  }
+  if (normal && img.channels() != 3)
+    throw InputError(file, key, "an RGB normal map, got " + std::to_string(img.channels()) + " channels");
+  return FloatTexture(img);
+}
+}  // namespace
+
+PartMaterial PartMaterial::fromDesc(const io::MaterialFileDesc& desc, const std::string& file) {
+  PartMaterial m;
+  m.part = desc.part;
+  m.fromFile = true;
+  m.uv = UvTransform::fromDesc(desc.uv);
+  m.albedo = desc.homogeneous.albedo.cast<float>();
+  m.roughness = static_cast<float>(desc.homogeneous.roughness);
+  m.metallic = static_cast<float>(desc.homogeneous.metallic);
+  m.specular = static_cast<float>(desc.homogeneous.specular);
+  m.albedoOffset = desc.albedoOffset.cast<float>();
+  m.albedoScale = static_cast<float>(desc.albedoScale);
+  m.roughnessScale = static_cast<float>(desc.roughnessScale);
+  for (const auto& [name, path] : desc.maps) {
+    const std::string key = "maps." + name;
+    if (name == "albedo") m.albedoMap = readMap(path, file, key, true, false);
+    else if (name == "normal") m.normalMap = readMap(path, file, key, false, true);
+    else if (name == "roughness") m.roughnessMap = readMap(path, file, key, false, false);
+    else if (name == "metallic") m.metallicMap = readMap(path, file, key, false, false);
+  }
+  return m;
+}
+
+MaterialSample PartMaterial::evaluate(const Vec2f& uvIn) const {
+  MaterialSample s;
+  s.specular = specular;
+  if (!textured()) {
+    s.albedo = albedo;
+    s.roughness = roughness;
+    s.metallic = metallic;
+    return s;
+  }
+  const Vec2f t = uv.apply(uvIn);
+  if (!albedoMap.empty())
+    s.albedo = (albedoScale * (albedoMap.sample(t) + albedoOffset)).cwiseMax(0.0f).cwiseMin(1.0f);
+  else
+    s.albedo = albedo;
+  s.roughness = roughnessMap.empty() ? roughness : clampv(roughnessScale * roughnessMap.sample(t).x(), 0.0f, 1.0f);
+  s.metallic = metallicMap.empty() ? metallic : clampv(metallicMap.sample(t).x(), 0.0f, 1.0f);
+  if (!normalMap.empty()) {
+    const Vec3f n = normalMap.sample(t);
+    const float len = n.norm();
+    s.normalTs = (len > 1e-6f && std::isfinite(len) && n.z() > 0) ? Vec3f(n / len) : Vec3f(0, 0, 1);
+  }
+  return s;
+}
+
+bool tangentFrame(const Vec3f& dPdu, const Vec3f& dPdv, const Vec3f& n, const UvTransform& uv, Vec3f* T,
+                  Vec3f* B) {
+  // t = M uv + o  =>  dP/dt = dP/duv * M^-1 (columns: dP/dt_u, dP/dt_v)
+  const Eigen::Matrix2f M = uv.linear();
+  const float det = M.determinant();
+  bool ok = std::abs(det) > 1e-12f && dPdu.allFinite() && dPdv.allFinite();
+  Vec3f dPdtu = Vec3f::Zero(), dPdtv = Vec3f::Zero();
+  if (ok) {
+    const Eigen::Matrix2f Mi = M.inverse();
+    dPdtu = dPdu * Mi(0, 0) + dPdv * Mi(1, 0);
+    dPdtv = dPdu * Mi(0, 1) + dPdv * Mi(1, 1);
+    Vec3f t = dPdtu - n * n.dot(dPdtu);
+    const float tl = t.norm();
+    Vec3f b = n.cross(t);
+    if (tl > 1e-12f * (dPdtu.norm() + 1e-30f) && tl > 0 && std::isfinite(tl)) {
+      t /= tl;
+      b = n.cross(t);
+      if (b.dot(dPdtv) < 0) b = -b;
+      *T = t;
+      *B = b;
+      return true;
+    }
+    ok = false;
+  }
+  orthonormalBasis(n, *T, *B);
+  return false;
+}
+
+Twin loadTwin(const fs::path& outDir, bool loadPhotos) {
+  Timer timer;
+  Twin twin;
+  twin.dir = outDir;
+  const fs::path sceneFile = outDir / "scene.json";
+  if (!fs::exists(sceneFile))
+    throw InputError(sceneFile.string(), "", "a twin folder with scene.json (the output of `photoscene run`)");
+  LoadOptions lo;
+  lo.loadPhotos = loadPhotos;
+  twin.scene = loadScene(sceneFile, lo);
+  Scene& scene = twin.scene;
+  const fs::path lightsFile = outDir / "lights.json";
+  if (fs::exists(lightsFile)) {
+    const io::LightsFileDesc ld = io::readLightsJson(lightsFile);
+    scene.lights = makeLights(ld, scene.mesh, scene.parts, scene.up, lightsFile.string());
+    twin.exposure = ld.exposure;
+  }
+  twin.exposure.resize(scene.views.size(), 1.0);
+  twin.materials.resize(scene.parts.size());
+  int fromFiles = 0;
+  for (const Part& p : scene.parts) {
+    const fs::path mf = outDir / "materials" / (p.name + ".json");
+    if (fs::exists(mf)) {
+      const io::MaterialFileDesc desc = io::readMaterialJson(mf);
+      twin.materials[p.id] = PartMaterial::fromDesc(desc, mf.string());
+      twin.materials[p.id].part = p.name;
+      ++fromFiles;
+    } else {
+      twin.materials[p.id] = PartMaterial::defaultGray(p.name);
+    }
+  }
+  spdlog::info("twin {}: {} parts, {} with materials files ({:.2f}s)", outDir.string(), scene.parts.size(),
+               fromFiles, timer.seconds());
+  return twin;
+}
+
+}  // namespace ps
