@@ -1,0 +1,5 @@
+// photoscene align: part masks, IoU matching, the bounding-box warp of Eq. (1), texture
+// unwarping and view choice.
+#pragma once
+
+#include "photoscene/align/align.hpp"
