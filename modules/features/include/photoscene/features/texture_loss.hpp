@@ -1,0 +1,129 @@
+// The texture-feature loss between a rendered part and its photo, and its analytic gradient.
+//
+//   loss = sum over groups g of  weight_g / n_g * sum_{i in g} ((D_i(render) - D_i(photo)) / nu)^2
+//
+// D is the descriptor of texture_descriptor.hpp computed over the same mask on both images; the
+// groups are colorMean (3 entries), colorStd (3), and the four band statistics meanRe, stdRe,
+// meanMag, stdMag (numScales * numOrientations entries each), each optionally multiplied by a
+// per-scale weight. nu = max(mean photo luminance over the mask, 1e-3) when normalizeByTarget is
+// set (the loss is then unitless and unchanged when photo and render are scaled together), else 1.
+//
+// Forward and backward share one parameter struct (the nvdiffrast pattern): the caller fills the
+// inputs, textureLossForward() fills the outputs and the workspace, textureLossBackward() reads
+// them. The photo's descriptor is computed once, in TextureLossTarget.
+//
+// The gradient is exact for the computed loss (the filters, the pyramid and the masked statistics
+// are differentiated analytically; the adjoint of each filter is the flipped filter with the same
+// zero padding). It is non-zero only on mask pixels.
+//
+// Example (one step of a per-part fit):
+//   ps::TextureLossTarget target(photo, partMask);           // once per part
+//   ps::TextureLossParams p;
+//   p.target = &target;
+//   p.render = renderOfPart;                                  // CV_32FC3, photo's size
+//   double loss = ps::textureLossForward(p);
+//   ps::textureLossBackward(p, 1.0f, gradRender);             // d loss / d render, CV_32FC3
+#pragma once
+
+#include "photoscene/features/texture_descriptor.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ps {
+
+/// Weights of the loss's groups. A weight of 0 drops its group (and its cost in backward).
+struct TextureLossWeights {
+  float colorMean = 1.0f;
+  float colorStd = 1.0f;
+  float bandMeanRe = 0.25f;
+  float bandStdRe = 1.0f;
+  float bandMeanMag = 1.0f;
+  float bandStdMag = 1.0f;
+  /// Per-scale multipliers of the band groups; empty = all 1, else numScales entries >= 0.
+  std::vector<float> scale;
+};
+
+struct TextureLossOptions {
+  TextureDescriptorOptions descriptor;
+  TextureLossWeights weights;
+  /// Divide descriptor differences by the photo's mean masked luminance (see the top).
+  bool normalizeByTarget = true;
+
+  bool IsValid(std::string* error) const;
+};
+
+/// The photo side of the loss: the mask, its crop, pyramid and weights, and the photo's
+/// descriptor, computed once per part and reused for every render.
+class TextureLossTarget {
+ public:
+  /// @param photo CV_32FC3, linear RGB (R first), non-negative, finite
+  /// @param mask  CV_8UC1, photo's size, non-zero = the part; non-empty (else ps::Exception)
+  TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
+                    const TextureLossOptions& options = {});
+  ~TextureLossTarget();
+  TextureLossTarget(TextureLossTarget&&) noexcept;
+  TextureLossTarget& operator=(TextureLossTarget&&) noexcept;
+
+  const TextureLossOptions& options() const;
+  const TextureDescriptor& descriptor() const;  ///< the photo's descriptor
+  cv::Size imageSize() const;                   ///< size renders must have
+  cv::Rect crop() const;                        ///< region of the image the loss reads
+  double normalizer() const;                    ///< nu
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Intermediate results of a forward pass, kept for backward (opaque).
+struct TextureLossWorkspace;
+
+/// Shared by textureLossForward and textureLossBackward.
+struct TextureLossParams {
+  // ---- inputs (set by the caller) ----
+  const TextureLossTarget* target = nullptr;  ///< not owned; must outlive the params' use
+  cv::Mat render;  ///< CV_32FC3, linear RGB, target->imageSize(); finite. Only crop() is read.
+
+  // ---- outputs of textureLossForward ----
+  double loss = 0.0;
+  TextureDescriptor renderDescriptor;  ///< the render's descriptor
+  /// Per-group contributions to loss: colorMean, colorStd, meanRe, stdRe, meanMag, stdMag.
+  double groupLoss[6] = {0, 0, 0, 0, 0, 0};
+
+  // ---- workspace (written by forward, read by backward) ----
+  std::shared_ptr<TextureLossWorkspace> workspace;
+};
+
+/// Computes params.loss (and the other outputs) for params.render against params.target.
+/// @throws ps::Exception when target is null or render has the wrong type or size
+double textureLossForward(TextureLossParams& params);
+
+/// d(gradLoss * loss) / d render, after textureLossForward on the same params.
+/// @param gradRender CV_32FC3, target->imageSize(): overwritten (allocated if empty or of another
+///                   size / type) unless accumulate, when the gradient is added to it. Zero outside
+///                   the mask.
+void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Mat& gradRender,
+                         bool accumulate = false);
+
+/// Finite-difference check of textureLossBackward at chosen pixels and channels.
+struct TextureLossGradientCheck {
+  double maxAbsError = 0.0;   ///< max |analytic - numeric|
+  double maxRelError = 0.0;   ///< max |analytic - numeric| / max(|analytic|, |numeric|, floor)
+  double floor = 0.0;         ///< the floor used: 1e-3 * max |numeric| over the checked entries
+  int checked = 0;
+};
+/// Central differences with step `step` (linear units) on render(p)[c] for every p in pixels
+/// and c in {0, 1, 2}; analytic gradient from textureLossBackward. Pixels outside the mask must
+/// have gradient 0 and are checked as such.
+TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& target,
+                                                  const cv::Mat& render,
+                                                  const std::vector<cv::Point>& pixels,
+                                                  double step = 1e-3);
+
+}  // namespace ps

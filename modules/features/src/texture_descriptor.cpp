@@ -1,0 +1,201 @@
+#include "photoscene/features/texture_descriptor.hpp"
+
+#include "gabor_pyramid.hpp"
+#include "photoscene/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace ps {
+
+using namespace features_detail;
+
+bool TextureDescriptorOptions::IsValid(std::string* error) const {
+  std::ostringstream os;
+  if (numScales < 1 || numScales > 12) os << "numScales must be in [1, 12], got " << numScales;
+  else if (numOrientations < 1 || numOrientations > 32)
+    os << "numOrientations must be in [1, 32], got " << numOrientations;
+  else if (!(centerFrequency > 0.0 && centerFrequency < 0.5))
+    os << "centerFrequency must be in (0, 0.5) cycles per pixel, got " << centerFrequency;
+  else if (!(sigma >= 0.5 && sigma <= 16.0)) os << "sigma must be in [0.5, 16], got " << sigma;
+  else if (!(kernelRadiusSigmas >= 1.0 && kernelRadiusSigmas <= 5.0))
+    os << "kernelRadiusSigmas must be in [1, 5], got " << kernelRadiusSigmas;
+  else if (!(boundaryPower >= 0.0 && boundaryPower <= 16.0))
+    os << "boundaryPower must be in [0, 16], got " << boundaryPower;
+  else if (!(epsilon > 0.0 && epsilon < 1.0)) os << "epsilon must be in (0, 1), got " << epsilon;
+  const std::string msg = os.str();
+  if (error) *error = msg;
+  return msg.empty();
+}
+
+bool TextureKeyOptions::IsValid(std::string* error) const {
+  if (!descriptor.IsValid(error)) return false;
+  std::string msg;
+  if (!(colorWeight >= 0 && contrastWeight >= 0 && anisotropyWeight >= 0))
+    msg = "key group weights must be >= 0";
+  else if (!(logFloor > 0.0f)) msg = "logFloor must be > 0";
+  if (error) *error = msg;
+  return msg.empty();
+}
+
+int descriptorLength(const TextureDescriptorOptions& o) {
+  return kTextureColorEntries + 4 * o.numScales * o.numOrientations;
+}
+
+int bandIndex(const TextureDescriptorOptions& o, int scale, int orientation) {
+  return kTextureColorEntries + 4 * (scale * o.numOrientations + orientation);
+}
+
+int keyLength(const TextureKeyOptions& o) {
+  const int S = o.descriptor.numScales, K = o.descriptor.numOrientations;
+  return 6 + 3 * S + S * (K / 2);
+}
+
+static void checkOptions(const TextureDescriptorOptions& o) {
+  std::string err;
+  PS_Check(o.IsValid(&err), "invalid TextureDescriptorOptions: " << err);
+}
+
+TextureDescriptor computeTextureDescriptor(const cv::Mat& image, const cv::Mat& mask,
+                                           const TextureDescriptorOptions& options) {
+  checkOptions(options);
+  checkDescriptorInputs(image, mask);
+  const GaborBank bank = makeGaborBank(options);
+  const MaskPyramid pyramid = makeMaskPyramid(mask, options, bank);
+  ForwardState state;
+  forwardDescriptor(image, pyramid, bank, options, state, false);
+  return toDescriptor(state, pyramid, options);
+}
+
+std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
+                                     const TextureKeyOptions& options) {
+  std::string err;
+  PS_Check(options.IsValid(&err), "invalid TextureKeyOptions: " << err);
+  checkDescriptorInputs(image, mask);
+  const TextureDescriptorOptions& o = options.descriptor;
+  const GaborBank bank = makeGaborBank(o);
+  MaskPyramid pyramid = makeMaskPyramid(mask, o, bank);
+  const cv::Rect crop = pyramid.crop;
+
+  // Per-channel medians over the mask (the paper's median matching).
+  std::vector<float> vals[3];
+  for (auto& v : vals) v.reserve(pyramid.count);
+  for (int y = 0; y < crop.height; ++y) {
+    const cv::Vec3f* c = image.ptr<cv::Vec3f>(crop.y + y) + crop.x;
+    const float* m = pyramid.mask0.ptr<float>(y);
+    for (int x = 0; x < crop.width; ++x) {
+      if (m[x] == 0.0f) continue;
+      for (int ch = 0; ch < 3; ++ch) vals[ch].push_back(c[x][ch]);
+    }
+  }
+  double median[3];
+  for (int ch = 0; ch < 3; ++ch) {
+    auto mid = vals[ch].begin() + vals[ch].size() / 2;
+    std::nth_element(vals[ch].begin(), mid, vals[ch].end());
+    median[ch] = std::max(0.0, static_cast<double>(*mid));
+  }
+  const double maxMedian = std::max({median[0], median[1], median[2]});
+  cv::Mat normalized(crop.size(), CV_32FC3);
+  double scale[3];
+  for (int ch = 0; ch < 3; ++ch) scale[ch] = 1.0 / (median[ch] + 1e-3 * maxMedian + 1e-12);
+  for (int y = 0; y < crop.height; ++y) {
+    const cv::Vec3f* c = image.ptr<cv::Vec3f>(crop.y + y) + crop.x;
+    cv::Vec3f* d = normalized.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < crop.width; ++x) {
+      for (int ch = 0; ch < 3; ++ch) d[x][ch] = static_cast<float>(c[x][ch] * scale[ch]);
+    }
+  }
+  pyramid.crop = cv::Rect(0, 0, crop.width, crop.height);
+  ForwardState st;
+  forwardDescriptor(normalized, pyramid, bank, o, st, false);
+  const std::vector<double>& D = st.values;
+
+  // Inter-channel correlations of the normalized region.
+  double mean[3] = {D[0], D[1], D[2]};
+  double cov[3] = {0, 0, 0};  // RG, GB, BR
+  for (int y = 0; y < crop.height; ++y) {
+    const cv::Vec3f* c = normalized.ptr<cv::Vec3f>(y);
+    const float* m = pyramid.mask0.ptr<float>(y);
+    for (int x = 0; x < crop.width; ++x) {
+      if (m[x] == 0.0f) continue;
+      const double r = c[x][0] - mean[0], g = c[x][1] - mean[1], b = c[x][2] - mean[2];
+      cov[0] += r * g;
+      cov[1] += g * b;
+      cov[2] += b * r;
+    }
+  }
+  const int S = o.numScales, K = o.numOrientations;
+  std::vector<double> key;
+  key.reserve(keyLength(options));
+  const double floor = options.logFloor;
+  double var[3];
+  for (int ch = 0; ch < 3; ++ch) {
+    const double sd = D[3 + ch];
+    var[ch] = std::max(0.0, sd * sd - o.epsilon * o.epsilon);
+    key.push_back(std::log(sd + floor));
+  }
+  const int pairs[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+  for (int i = 0; i < 3; ++i) {
+    const double va = var[pairs[i][0]], vb = var[pairs[i][1]];
+    const double denom = std::sqrt(va * vb);
+    key.push_back(denom > 1e-12 ? std::clamp(cov[i] / pyramid.count / denom, -1.0, 1.0) : 0.0);
+  }
+  for (int s = 0; s < S; ++s) {
+    double mm = 0, sm = 0, sr = 0;
+    for (int k = 0; k < K; ++k) {
+      const int b = bandIndex(o, s, k);
+      mm += D[b + kBandMeanMag];
+      sm += D[b + kBandStdMag];
+      sr += D[b + kBandStdRe];
+    }
+    key.push_back(std::log(mm / K + floor));
+    key.push_back(std::log(sm / K + floor));
+    key.push_back(std::log(sr / K + floor));
+  }
+  for (int s = 0; s < S; ++s) {
+    // The orientation profile above its isotropic floor (eps in the magnitudes), normalized.
+    std::vector<double> prof(K);
+    double total = 0.0;
+    for (int k = 0; k < K; ++k) {
+      prof[k] = std::max(0.0, D[bandIndex(o, s, k) + kBandMeanMag] - o.epsilon);
+      total += prof[k];
+    }
+    for (int h = 1; h <= K / 2; ++h) {
+      double re = 0.0, im = 0.0;
+      if (total > 1e-9) {
+        for (int k = 0; k < K; ++k) {
+          const double ang = -2.0 * CV_PI * h * k / K;
+          re += prof[k] / total * std::cos(ang);
+          im += prof[k] / total * std::sin(ang);
+        }
+      }
+      key.push_back(std::sqrt(re * re + im * im));
+    }
+  }
+  // Group scaling.
+  const int nColor = 6, nContrast = 3 * S, nAniso = S * (K / 2);
+  std::vector<float> out(key.size());
+  for (size_t i = 0; i < key.size(); ++i) {
+    double w;
+    if (static_cast<int>(i) < nColor) w = options.colorWeight / std::sqrt(nColor);
+    else if (static_cast<int>(i) < nColor + nContrast)
+      w = options.contrastWeight / std::sqrt(nContrast);
+    else w = options.anisotropyWeight / std::sqrt(std::max(1, nAniso));
+    out[i] = static_cast<float>(w * key[i]);
+  }
+  PS_CheckEQ(static_cast<int>(out.size()), keyLength(options), "key length");
+  return out;
+}
+
+double descriptorDistance(const std::vector<float>& a, const std::vector<float>& b) {
+  PS_CheckEQ(a.size(), b.size(), "descriptors of different lengths");
+  double s = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = static_cast<double>(a[i]) - b[i];
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+}  // namespace ps

@@ -1,0 +1,188 @@
+#include "photoscene/features/texture_loss.hpp"
+
+#include "gabor_pyramid.hpp"
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/image.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ps {
+
+using namespace features_detail;
+
+bool TextureLossOptions::IsValid(std::string* error) const {
+  if (!descriptor.IsValid(error)) return false;
+  std::string msg;
+  const TextureLossWeights& w = weights;
+  if (!(w.colorMean >= 0 && w.colorStd >= 0 && w.bandMeanRe >= 0 && w.bandStdRe >= 0 &&
+        w.bandMeanMag >= 0 && w.bandStdMag >= 0))
+    msg = "loss weights must be >= 0";
+  else if (!w.scale.empty() && static_cast<int>(w.scale.size()) != descriptor.numScales)
+    msg = "weights.scale must be empty or have numScales entries";
+  else if (std::any_of(w.scale.begin(), w.scale.end(), [](float v) { return !(v >= 0); }))
+    msg = "weights.scale entries must be >= 0";
+  if (error) *error = msg;
+  return msg.empty();
+}
+
+struct TextureLossTarget::Impl {
+  TextureLossOptions options;
+  GaborBank bank;
+  MaskPyramid pyramid;
+  TextureDescriptor descriptor;
+  std::vector<double> targetValues;
+  std::vector<double> entryWeight;  // weight_g / n_g / nu^2 per descriptor entry
+  std::vector<int> entryGroup;
+  cv::Size size;
+  double nu = 1.0;
+};
+
+struct TextureLossWorkspace {
+  ForwardState state;
+};
+
+TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
+                                     const TextureLossOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  std::string err;
+  PS_Check(options.IsValid(&err), "invalid TextureLossOptions: " << err);
+  checkDescriptorInputs(photo, mask);
+  Impl& m = *impl_;
+  m.options = options;
+  m.size = photo.size();
+  const TextureDescriptorOptions& o = options.descriptor;
+  m.bank = makeGaborBank(o);
+  m.pyramid = makeMaskPyramid(mask, o, m.bank);
+  ForwardState st;
+  forwardDescriptor(photo, m.pyramid, m.bank, o, st, false);
+  m.targetValues = st.values;
+  m.descriptor = toDescriptor(st, m.pyramid, o);
+  if (options.normalizeByTarget) {
+    const double lum = 0.2126 * st.values[0] + 0.7152 * st.values[1] + 0.0722 * st.values[2];
+    m.nu = std::max(lum, 1e-3);
+  }
+  const int S = o.numScales, K = o.numOrientations, SK = S * K;
+  const TextureLossWeights& w = options.weights;
+  m.entryWeight.assign(descriptorLength(o), 0.0);
+  m.entryGroup.assign(descriptorLength(o), 0);
+  const double inv = 1.0 / (m.nu * m.nu);
+  for (int ch = 0; ch < 3; ++ch) {
+    m.entryWeight[ch] = w.colorMean / 3.0 * inv;
+    m.entryGroup[ch] = 0;
+    m.entryWeight[3 + ch] = w.colorStd / 3.0 * inv;
+    m.entryGroup[3 + ch] = 1;
+  }
+  const float gw[4] = {w.bandMeanRe, w.bandStdRe, w.bandMeanMag, w.bandStdMag};
+  for (int s = 0; s < S; ++s) {
+    const double sw = w.scale.empty() ? 1.0 : w.scale[s];
+    for (int k = 0; k < K; ++k) {
+      for (int j = 0; j < 4; ++j) {
+        const int i = bandIndex(o, s, k) + j;
+        m.entryWeight[i] = gw[j] * sw / SK * inv;
+        m.entryGroup[i] = 2 + j;
+      }
+    }
+  }
+}
+
+TextureLossTarget::~TextureLossTarget() = default;
+TextureLossTarget::TextureLossTarget(TextureLossTarget&&) noexcept = default;
+TextureLossTarget& TextureLossTarget::operator=(TextureLossTarget&&) noexcept = default;
+
+const TextureLossOptions& TextureLossTarget::options() const { return impl_->options; }
+const TextureDescriptor& TextureLossTarget::descriptor() const { return impl_->descriptor; }
+cv::Size TextureLossTarget::imageSize() const { return impl_->size; }
+cv::Rect TextureLossTarget::crop() const { return impl_->pyramid.crop; }
+double TextureLossTarget::normalizer() const { return impl_->nu; }
+
+double textureLossForward(TextureLossParams& params) {
+  PS_Check(params.target != nullptr, "TextureLossParams.target is null");
+  const TextureLossTarget::Impl& t = params.target->impl();
+  checkImage(params.render, CV_32FC3, t.size, "texture loss render");
+  if (!params.workspace) params.workspace = std::make_shared<TextureLossWorkspace>();
+  ForwardState& st = params.workspace->state;
+  forwardDescriptor(params.render, t.pyramid, t.bank, t.options.descriptor, st, true);
+  double loss = 0.0;
+  std::fill(std::begin(params.groupLoss), std::end(params.groupLoss), 0.0);
+  for (size_t i = 0; i < st.values.size(); ++i) {
+    const double d = st.values[i] - t.targetValues[i];
+    const double c = t.entryWeight[i] * d * d;
+    params.groupLoss[t.entryGroup[i]] += c;
+    loss += c;
+  }
+  params.loss = loss;
+  params.renderDescriptor = toDescriptor(st, t.pyramid, t.options.descriptor);
+  return loss;
+}
+
+void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Mat& gradRender,
+                         bool accumulate) {
+  PS_Check(params.target != nullptr, "TextureLossParams.target is null");
+  PS_Check(params.workspace != nullptr, "textureLossBackward needs textureLossForward first");
+  const TextureLossTarget::Impl& t = params.target->impl();
+  const ForwardState& st = params.workspace->state;
+  std::vector<double> g(st.values.size());
+  for (size_t i = 0; i < g.size(); ++i)
+    g[i] = gradLoss * 2.0 * t.entryWeight[i] * (st.values[i] - t.targetValues[i]);
+  cv::Mat gradCrop;
+  backwardDescriptor(t.pyramid, t.bank, t.options.descriptor, st, g, gradCrop);
+  const bool reuse = accumulate && gradRender.type() == CV_32FC3 && gradRender.size() == t.size;
+  if (!reuse) {
+    gradRender.create(t.size, CV_32FC3);
+    gradRender.setTo(cv::Scalar::all(0));
+  }
+  if (reuse) {
+    cv::Mat roi = gradRender(t.pyramid.crop);
+    roi += gradCrop;
+  } else {
+    gradCrop.copyTo(gradRender(t.pyramid.crop));
+  }
+}
+
+TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& target,
+                                                  const cv::Mat& render,
+                                                  const std::vector<cv::Point>& pixels,
+                                                  double step) {
+  TextureLossParams p;
+  p.target = &target;
+  p.render = render.clone();
+  textureLossForward(p);
+  cv::Mat grad;
+  textureLossBackward(p, 1.0f, grad);
+  std::vector<double> analytic, numeric;
+  TextureLossParams q;
+  q.target = &target;
+  cv::Mat work = render.clone();
+  for (const cv::Point& px : pixels) {
+    PS_Check(px.inside(cv::Rect(0, 0, render.cols, render.rows)), "pixel outside the image");
+    for (int ch = 0; ch < 3; ++ch) {
+      float& v = work.at<cv::Vec3f>(px)[ch];
+      const float orig = v;
+      v = static_cast<float>(orig + step);
+      q.render = work;
+      const double up = textureLossForward(q);
+      v = static_cast<float>(orig - step);
+      const double down = textureLossForward(q);
+      const double h = static_cast<double>(static_cast<float>(orig + step)) -
+                       static_cast<double>(static_cast<float>(orig - step));
+      v = orig;
+      numeric.push_back((up - down) / h);
+      analytic.push_back(grad.at<cv::Vec3f>(px)[ch]);
+    }
+  }
+  TextureLossGradientCheck r;
+  double maxNum = 0.0;
+  for (double n : numeric) maxNum = std::max(maxNum, std::abs(n));
+  r.floor = std::max(1e-3 * maxNum, 1e-12);
+  for (size_t i = 0; i < numeric.size(); ++i) {
+    const double e = std::abs(analytic[i] - numeric[i]);
+    r.maxAbsError = std::max(r.maxAbsError, e);
+    r.maxRelError = std::max(
+        r.maxRelError, e / std::max({std::abs(analytic[i]), std::abs(numeric[i]), r.floor}));
+  }
+  r.checked = static_cast<int>(numeric.size());
+  return r;
+}
+
+}  // namespace ps

@@ -1,0 +1,217 @@
+#include "photoscene/core.hpp"
+#include "photoscene/features.hpp"
+#include "texture_fixtures.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+namespace ps {
+namespace {
+
+using test::checker;
+using test::diskMask;
+using test::noise;
+using test::stripes;
+
+// Mask pixels with at least one 4-neighbour outside the mask.
+std::vector<cv::Point> edgePixels(const cv::Mat& mask) {
+  std::vector<cv::Point> out;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!mask.at<uint8_t>(y, x)) continue;
+      const bool edge = x == 0 || y == 0 || x == mask.cols - 1 || y == mask.rows - 1 ||
+                        !mask.at<uint8_t>(y, x - 1) || !mask.at<uint8_t>(y, x + 1) ||
+                        !mask.at<uint8_t>(y - 1, x) || !mask.at<uint8_t>(y + 1, x);
+      if (edge) out.push_back({x, y});
+    }
+  return out;
+}
+
+std::vector<cv::Point> samplePixels(const cv::Mat& mask, bool inside, int count, uint64_t seed) {
+  Rng rng(seed);
+  std::vector<cv::Point> out;
+  while (static_cast<int>(out.size()) < count) {
+    const cv::Point p(rng.uniformInt(mask.cols), rng.uniformInt(mask.rows));
+    if ((mask.at<uint8_t>(p) != 0) == inside) out.push_back(p);
+  }
+  return out;
+}
+
+// The loss's gradient against central differences, at random interior pixels, random mask-edge
+// pixels and pixels outside the mask (whose gradient must be 0), for a render that differs from
+// the photo in texture, scale and color (so every group contributes).
+TEST(Features_TextureLoss, gradient_matches_finite_differences) {
+  const cv::Size size(96, 80);
+  // An irregular mask: a disk with a hole and a thin arm.
+  cv::Mat mask = diskMask(size, {48, 40}, 30);
+  cv::circle(mask, {52, 38}, 6, cv::Scalar(0), cv::FILLED);
+  cv::rectangle(mask, cv::Rect(70, 36, 24, 3), cv::Scalar(255), cv::FILLED);
+  const cv::Mat photo = stripes(size, 7.0, 30.0);
+  cv::Mat render = noise(size, 1.5, 7) * 0.8 + checker(size, 5) * 0.3;
+  TextureLossTarget target(photo, mask);
+  std::vector<cv::Point> pixels = samplePixels(mask, true, 12, 1);
+  const std::vector<cv::Point> edge = edgePixels(mask);
+  Rng rng(2);
+  for (int i = 0; i < 12; ++i) pixels.push_back(edge[rng.uniformInt(edge.size())]);
+  const std::vector<cv::Point> outside = samplePixels(mask, false, 4, 3);
+  pixels.insert(pixels.end(), outside.begin(), outside.end());
+  const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 2e-3);
+  EXPECT_EQ(r.checked, 3 * 28);
+  // Float filtering limits the finite differences to about 1e-3 relative; a wrong adjoint (a
+  // missing flip, a dropped term) gives errors of order 1.
+  EXPECT_LT(r.maxRelError, 2e-2) << "max abs error " << r.maxAbsError << ", floor " << r.floor;
+
+  TextureLossParams p;
+  p.target = &target;
+  p.render = render;
+  textureLossForward(p);
+  cv::Mat grad;
+  textureLossBackward(p, 1.0f, grad);
+  for (const cv::Point& q : outside) EXPECT_EQ(grad.at<cv::Vec3f>(q), cv::Vec3f(0, 0, 0));
+  // accumulate adds, gradLoss scales.
+  cv::Mat acc = grad.clone();
+  textureLossBackward(p, 2.0f, acc, true);
+  EXPECT_LT(cv::norm(acc - 3.0 * grad, cv::NORM_INF), 1e-6 * (1.0 + cv::norm(grad, cv::NORM_INF)));
+}
+
+// A gradient step along -grad lowers the loss (the gradient is usable by the optimizer).
+TEST(Features_TextureLoss, gradient_step_descends) {
+  const cv::Size size(128, 96);
+  const cv::Mat mask = diskMask(size, {64, 48}, 40);
+  TextureLossTarget target(stripes(size, 9.0, 0.0), mask);
+  TextureLossParams p;
+  p.target = &target;
+  p.render = noise(size, 2.0, 11);
+  const double l0 = textureLossForward(p);
+  cv::Mat grad;
+  textureLossBackward(p, 1.0f, grad);
+  const double gn = cv::norm(grad);
+  ASSERT_GT(gn, 0.0);
+  p.render = p.render - grad * (0.05 * l0 / (gn * gn));
+  const double l1 = textureLossForward(p);
+  EXPECT_LT(l1, l0 * 0.99) << l0 << " -> " << l1;
+}
+
+TEST(Features_TextureLoss, zero_for_identical_inputs_and_photo_scale_free) {
+  const cv::Size size(160, 120);
+  const cv::Mat mask = diskMask(size, {80, 60}, 50);
+  const cv::Mat img = noise(size, 2.0, 5);
+  TextureLossTarget target(img, mask);
+  TextureLossParams p;
+  p.target = &target;
+  p.render = img;
+  EXPECT_EQ(textureLossForward(p), 0.0);
+  cv::Mat grad;
+  textureLossBackward(p, 1.0f, grad);
+  EXPECT_EQ(cv::norm(grad, cv::NORM_INF), 0.0);
+  // Normalized by the photo's luminance: scaling photo and render together keeps the loss.
+  const cv::Mat other = stripes(size, 6.0, 45.0);
+  p.render = other;
+  const double l1 = textureLossForward(p);
+  TextureLossTarget target3(img * 3.0, mask);
+  p.target = &target3;
+  p.render = other * 3.0;
+  const double l3 = textureLossForward(p);
+  EXPECT_GT(l1, 0.0);
+  EXPECT_NEAR(l3 / l1, 1.0, 1e-3);
+}
+
+// The loss grows monotonically as a grating's period departs from the target's, both ways.
+TEST(Features_TextureLoss, grows_monotonically_with_frequency_departure) {
+  const cv::Size size(200, 160);
+  const cv::Mat mask = diskMask(size, {100, 80}, 70);
+  const double period0 = 10.0;
+  TextureLossTarget target(stripes(size, period0, 20.0), mask);
+  TextureLossParams p;
+  p.target = &target;
+  for (int dir : {-1, +1}) {
+    double prev = -1.0;
+    for (int i = 0; i <= 6; ++i) {
+      const double period = period0 * std::pow(1.15, dir * i);
+      p.render = stripes(size, period, 20.0);
+      const double l = textureLossForward(p);
+      if (i == 0) {
+        EXPECT_LT(l, 1e-10);
+      }
+      EXPECT_GT(l, prev) << "period " << period;
+      prev = l;
+    }
+  }
+}
+
+// No NaN or Inf from degenerate masks and extreme images; the empty mask throws.
+TEST(Features_TextureLoss, stress_masks_and_images_stay_finite) {
+  const cv::Size size(64, 48);
+  cv::Mat onePixel = cv::Mat::zeros(size, CV_8UC1);
+  onePixel.at<uint8_t>(20, 30) = 255;
+  cv::Mat corner = cv::Mat::zeros(size, CV_8UC1);
+  corner.at<uint8_t>(0, 0) = 255;
+  cv::Mat full(size, CV_8UC1, cv::Scalar(255));
+  cv::Mat strip = cv::Mat::zeros(size, CV_8UC1);
+  strip.row(47).setTo(255);
+  cv::Mat ring = diskMask(size, {32, 24}, 20);
+  cv::circle(ring, {32, 24}, 15, cv::Scalar(0), cv::FILLED);
+  const cv::Mat black = cv::Mat::zeros(size, CV_32FC3);
+  const cv::Mat saturated(size, CV_32FC3, cv::Scalar(1e4, 1e4, 1e4));
+  cv::Mat blackAndWhite = checker(size, 1) * 1e3;  // pixel-scale, very high contrast
+  const cv::Mat tex = noise(size, 1.0, 3);
+  for (const cv::Mat& mask : {onePixel, corner, full, strip, ring}) {
+    for (const cv::Mat& photo : {black, saturated, blackAndWhite, tex}) {
+      for (const cv::Mat& render : {black, saturated, tex}) {
+        TextureLossTarget target(photo, mask);
+        ASSERT_TRUE(allFinite(cv::Mat(target.descriptor().values)));
+        TextureLossParams p;
+        p.target = &target;
+        p.render = render;
+        const double l = textureLossForward(p);
+        ASSERT_TRUE(std::isfinite(l));
+        cv::Mat grad;
+        textureLossBackward(p, 1.0f, grad);
+        ASSERT_TRUE(allFinite(grad));
+      }
+    }
+  }
+  const cv::Mat empty = cv::Mat::zeros(size, CV_8UC1);
+  EXPECT_THROW(TextureLossTarget(tex, empty), Exception);
+  TextureLossTarget target(tex, full);
+  TextureLossParams p;
+  p.target = &target;
+  p.render = cv::Mat::zeros(10, 10, CV_32FC3);
+  EXPECT_THROW(textureLossForward(p), Exception);
+  p.render = tex.clone();
+  p.render.at<cv::Vec3f>(3, 3)[1] = std::nanf("");
+  EXPECT_THROW(textureLossForward(p), Exception);
+}
+
+// The one-pixel mask's gradient is still exact (its statistics rest on one pixel at every scale).
+TEST(Features_TextureLoss, one_pixel_mask_gradient) {
+  const cv::Size size(40, 40);
+  cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+  mask.at<uint8_t>(20, 21) = 255;
+  TextureLossTarget target(noise(size, 1.0, 1), mask);
+  const TextureLossGradientCheck r =
+      checkTextureLossGradient(target, stripes(size, 5.0, 10.0), {{21, 20}, {22, 20}}, 2e-3);
+  EXPECT_LT(r.maxRelError, 2e-2) << r.maxAbsError;
+}
+
+TEST(Features_TextureLoss, options_are_validated) {
+  TextureLossOptions o;
+  std::string err;
+  EXPECT_TRUE(o.IsValid(&err)) << err;
+  o.weights.scale = {1.0f, 1.0f};
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("numScales"), std::string::npos);
+  o.weights.scale.clear();
+  o.weights.bandStdMag = -1.0f;
+  EXPECT_FALSE(o.IsValid(&err));
+  o = {};
+  o.descriptor.centerFrequency = 0.7;
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_THROW(TextureLossTarget(cv::Mat::zeros(8, 8, CV_32FC3), cv::Mat::ones(8, 8, CV_8UC1), o),
+               Exception);
+}
+
+}  // namespace
+}  // namespace ps
