@@ -1,0 +1,258 @@
+#include "photoscene/lighting/solve.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/image.hpp"
+
+namespace ps::lighting {
+
+bool SolveOptions::IsValid(std::string* error) const {
+  if (maxAlternations < 1 || !(tolerance > 0) || !(saturation > 0) || maxSamplesPerView < 1 ||
+      !(dropShare >= 0 && dropShare < 1)) {
+    if (error) *error = "maxAlternations >= 1, tolerance > 0, saturation > 0, maxSamplesPerView >= 1, dropShare in [0, 1)";
+    return false;
+  }
+  return true;
+}
+
+Eigen::VectorXd nnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, int maxIterations) {
+  const int n = static_cast<int>(A.cols());
+  PS_CheckEQ(A.rows(), b.rows(), "nnls: A and b rows");
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  if (n == 0) return x;
+  // Work on the normal equations: n is small (lights), rows are many (pixels).
+  const Eigen::MatrixXd AtA = A.transpose() * A;
+  const Eigen::VectorXd Atb = A.transpose() * b;
+  const double tol = 10 * std::numeric_limits<double>::epsilon() * std::max(1.0, AtA.cwiseAbs().maxCoeff()) * n;
+  std::vector<bool> passive(n, false);
+  if (maxIterations <= 0) maxIterations = 3 * n + 10;
+  auto solvePassive = [&](Eigen::VectorXd& s) {
+    std::vector<int> idx;
+    for (int j = 0; j < n; ++j)
+      if (passive[j]) idx.push_back(j);
+    s.setZero(n);
+    if (idx.empty()) return;
+    const int k = static_cast<int>(idx.size());
+    Eigen::MatrixXd M(k, k);
+    Eigen::VectorXd r(k);
+    for (int i = 0; i < k; ++i) {
+      r[i] = Atb[idx[i]];
+      for (int j = 0; j < k; ++j) M(i, j) = AtA(idx[i], idx[j]);
+    }
+    const Eigen::VectorXd sol = M.ldlt().solve(r);
+    for (int i = 0; i < k; ++i) s[idx[i]] = std::isfinite(sol[i]) ? sol[i] : 0.0;
+  };
+  Eigen::VectorXd w = Atb - AtA * x;
+  for (int outer = 0; outer < maxIterations; ++outer) {
+    int best = -1;
+    double wmax = tol;
+    for (int j = 0; j < n; ++j)
+      if (!passive[j] && w[j] > wmax) {
+        wmax = w[j];
+        best = j;
+      }
+    if (best < 0) break;
+    passive[best] = true;
+    Eigen::VectorXd s;
+    for (int inner = 0; inner < 3 * n + 10; ++inner) {
+      solvePassive(s);
+      bool feasible = true;
+      double alpha = 1.0;
+      for (int j = 0; j < n; ++j) {
+        if (passive[j] && s[j] <= 0) {
+          feasible = false;
+          const double denom = x[j] - s[j];
+          if (denom > 0) alpha = std::min(alpha, x[j] / denom);
+        }
+      }
+      if (feasible) {
+        x = s;
+        break;
+      }
+      x += alpha * (s - x);
+      for (int j = 0; j < n; ++j)
+        if (passive[j] && x[j] <= tol) {
+          passive[j] = false;
+          x[j] = 0;
+        }
+    }
+    w = Atb - AtA * x;
+  }
+  for (int j = 0; j < n; ++j) x[j] = std::max(0.0, x[j]);
+  return x;
+}
+
+namespace {
+
+/// Usable samples of one view: photo values and per-light values, 3 channels each.
+struct Samples {
+  std::vector<float> photo;                 // 3 per sample
+  std::vector<std::vector<float>> light;    // per light, 3 per sample
+  int count = 0;
+};
+
+Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
+  checkImage(v.photo, CV_32FC3, "lighting: photo");
+  checkImage(v.mask, CV_8UC1, v.photo.size(), "lighting: mask");
+  PS_CheckEQ(static_cast<int>(v.perLight.size()), lights, "lighting: every view needs one image per light");
+  for (const cv::Mat& l : v.perLight) checkImage(l, CV_32FC3, v.photo.size(), "lighting: per-light render");
+  std::vector<cv::Point> usable;
+  for (int y = 0; y < v.photo.rows; ++y) {
+    const cv::Vec3f* p = v.photo.ptr<cv::Vec3f>(y);
+    const uint8_t* m = v.mask.ptr<uint8_t>(y);
+    for (int x = 0; x < v.photo.cols; ++x) {
+      if (!m[x]) continue;
+      bool ok = true;
+      for (int c = 0; c < 3; ++c) ok &= std::isfinite(p[x][c]) && p[x][c] < o.saturation && p[x][c] >= 0;
+      for (const cv::Mat& l : v.perLight) {
+        const cv::Vec3f& q = l.at<cv::Vec3f>(y, x);
+        for (int c = 0; c < 3; ++c) ok &= std::isfinite(q[c]);
+      }
+      if (ok) usable.emplace_back(x, y);
+    }
+  }
+  const size_t stride = std::max<size_t>(1, (usable.size() + o.maxSamplesPerView - 1) / o.maxSamplesPerView);
+  Samples s;
+  s.light.resize(lights);
+  for (size_t i = 0; i < usable.size(); i += stride) {
+    const cv::Point q = usable[i];
+    const cv::Vec3f& p = v.photo.at<cv::Vec3f>(q);
+    for (int c = 0; c < 3; ++c) s.photo.push_back(p[c]);
+    for (int k = 0; k < lights; ++k) {
+      const cv::Vec3f& l = v.perLight[k].at<cv::Vec3f>(q);
+      for (int c = 0; c < 3; ++c) s.light[k].push_back(l[c]);
+    }
+    ++s.count;
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string LightSolution::summary() const {
+  std::string s;
+  char buf[200];
+  for (size_t k = 0; k < intensity.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "light %zu: (%.4g, %.4g, %.4g)%s\n", k, intensity[k].x(), intensity[k].y(),
+                  intensity[k].z(), dropped[k] ? " dropped" : "");
+    s += buf;
+  }
+  for (size_t v = 0; v < exposure.size(); ++v) {
+    std::snprintf(buf, sizeof buf, "exposure %zu: %.4g\n", v, exposure[v]);
+    s += buf;
+  }
+  std::snprintf(buf, sizeof buf, "residual rms %.4g of photo rms %.4g over %d samples, %d alternations", residualRms,
+                photoRms, samples, alternations);
+  return s + buf;
+}
+
+LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOptions& options) {
+  std::string why;
+  PS_Check(options.IsValid(&why), why);
+  PS_Check(!views.empty(), "solveLights: no views");
+  const int lights = static_cast<int>(views[0].perLight.size());
+  std::vector<Samples> data;
+  int total = 0;
+  for (const auto& v : views) {
+    data.push_back(gather(v, lights, options));
+    total += data.back().count;
+  }
+  PS_Check(total > 0, "solveLights: no usable pixel in any view (masks empty or photos saturated)");
+
+  LightSolution sol;
+  sol.intensity.assign(lights, Vec3d::Zero());
+  sol.exposure.assign(views.size(), 1.0);
+  sol.dropped.assign(lights, false);
+  sol.samples = total;
+
+  std::vector<int> active;
+  for (int k = 0; k < lights; ++k) active.push_back(k);
+
+  auto residual = [&]() {
+    double err = 0, ref = 0;
+    for (size_t v = 0; v < data.size(); ++v) {
+      const Samples& s = data[v];
+      for (int i = 0; i < s.count; ++i)
+        for (int c = 0; c < 3; ++c) {
+          double m = 0;
+          for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
+          const double d = sol.exposure[v] * m - s.photo[3 * i + c];
+          err += d * d;
+          ref += double(s.photo[3 * i + c]) * s.photo[3 * i + c];
+        }
+    }
+    sol.photoRms = std::sqrt(ref / (3.0 * total));
+    return std::sqrt(err / (3.0 * total));
+  };
+
+  for (int round = 0; round <= lights; ++round) {
+    const int n = static_cast<int>(active.size());
+    double previous = std::numeric_limits<double>::infinity();
+    const int alternations = (options.perViewExposure && views.size() > 1) ? options.maxAlternations : 1;
+    for (int it = 0; it < alternations; ++it) {
+      // intensities per channel for fixed exposures
+      for (int c = 0; c < 3; ++c) {
+        Eigen::MatrixXd A(total, n);
+        Eigen::VectorXd b(total);
+        int row = 0;
+        for (size_t v = 0; v < data.size(); ++v) {
+          const Samples& s = data[v];
+          for (int i = 0; i < s.count; ++i, ++row) {
+            for (int j = 0; j < n; ++j) A(row, j) = sol.exposure[v] * s.light[active[j]][3 * i + c];
+            b[row] = s.photo[3 * i + c];
+          }
+        }
+        const Eigen::VectorXd x = nnls(A, b);
+        for (int j = 0; j < n; ++j) sol.intensity[active[j]][c] = x[j];
+      }
+      // exposures for fixed intensities (view 0 is the reference)
+      if (alternations > 1) {
+        for (size_t v = 1; v < data.size(); ++v) {
+          const Samples& s = data[v];
+          double pm = 0, mm = 0;
+          for (int i = 0; i < s.count; ++i)
+            for (int c = 0; c < 3; ++c) {
+              double m = 0;
+              for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
+              pm += m * s.photo[3 * i + c];
+              mm += m * m;
+            }
+          sol.exposure[v] = mm > 0 ? pm / mm : 1.0;
+        }
+      }
+      sol.alternations = it + 1;
+      const double r = residual();
+      if (std::abs(previous - r) <= options.tolerance * std::max(r, 1e-30)) break;
+      previous = r;
+    }
+    // drop lights that add nothing (zero) or almost nothing to the model's energy
+    double energyAll = 0;
+    std::vector<double> energy(lights, 0.0);
+    for (const Samples& s : data)
+      for (int k : active)
+        for (int i = 0; i < s.count; ++i)
+          for (int c = 0; c < 3; ++c) energy[k] += sol.intensity[k][c] * s.light[k][3 * i + c];
+    for (int k : active) energyAll += energy[k];
+    std::vector<int> keep;
+    for (int k : active) {
+      const bool zero = sol.intensity[k].maxCoeff() <= 0;
+      if (zero || (energyAll > 0 && energy[k] < options.dropShare * energyAll)) {
+        sol.dropped[k] = true;
+        sol.intensity[k].setZero();
+      } else {
+        keep.push_back(k);
+      }
+    }
+    if (keep.size() == active.size()) break;
+    active = keep;
+    if (active.empty()) break;
+  }
+  sol.residualRms = residual();
+  return sol;
+}
+
+}  // namespace ps::lighting

@@ -1,0 +1,130 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/core.hpp"
+#include "photoscene/lighting.hpp"
+
+namespace ps::lighting {
+namespace {
+
+/// Exhaustive NNLS for small n: the best unconstrained LS over every support set that is feasible.
+Eigen::VectorXd bruteForceNnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  const int n = static_cast<int>(A.cols());
+  Eigen::VectorXd best = Eigen::VectorXd::Zero(n);
+  double bestErr = b.squaredNorm();
+  for (int mask = 1; mask < (1 << n); ++mask) {
+    std::vector<int> idx;
+    for (int j = 0; j < n; ++j)
+      if (mask & (1 << j)) idx.push_back(j);
+    Eigen::MatrixXd S(A.rows(), idx.size());
+    for (size_t j = 0; j < idx.size(); ++j) S.col(j) = A.col(idx[j]);
+    const Eigen::VectorXd s = S.colPivHouseholderQr().solve(b);
+    if ((s.array() < 0).any()) continue;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+    for (size_t j = 0; j < idx.size(); ++j) x[idx[j]] = s[j];
+    const double err = (A * x - b).squaredNorm();
+    if (err < bestErr) {
+      bestErr = err;
+      best = x;
+    }
+  }
+  return best;
+}
+
+TEST(Lighting_Nnls, matches_exhaustive_search) {
+  Rng rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int m = 8 + rng.uniformInt(20), n = 1 + rng.uniformInt(5);
+    Eigen::MatrixXd A(m, n);
+    Eigen::VectorXd b(m);
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < n; ++j) A(i, j) = rng.normal();
+      b[i] = rng.normal();
+    }
+    const Eigen::VectorXd x = nnls(A, b), ref = bruteForceNnls(A, b);
+    EXPECT_TRUE((x.array() >= 0).all());
+    EXPECT_NEAR((A * x - b).squaredNorm(), (A * ref - b).squaredNorm(), 1e-8) << "trial " << trial;
+    // KKT: gradient non-positive on the bound, zero on the free set
+    const Eigen::VectorXd g = A.transpose() * (b - A * x);
+    for (int j = 0; j < n; ++j) {
+      if (x[j] > 1e-10) EXPECT_NEAR(g[j], 0, 1e-7);
+      else EXPECT_LE(g[j], 1e-7);
+    }
+  }
+}
+
+/// A smooth random field in [0, 1]: a stand-in for the image of one light.
+cv::Mat smoothField(cv::Size size, Rng& rng, float falloff) {
+  const cv::Point2f c(rng.uniform(0, size.width), rng.uniform(0, size.height));
+  cv::Mat m(size, CV_32FC3);
+  const cv::Vec3f tint(rng.uniform(0.6f, 1.0f), rng.uniform(0.6f, 1.0f), rng.uniform(0.6f, 1.0f));
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const float d2 = ((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) / (falloff * falloff);
+      m.at<cv::Vec3f>(y, x) = tint * (0.05f / (1.0f + d2)) * (0.7f + 0.3f * std::sin(0.05f * x + y * 0.03f));
+    }
+  return m;
+}
+
+TEST(Lighting_Solve, recovers_intensities_and_exposures_of_a_synthetic_scene) {
+  Rng rng(5);
+  const cv::Size size(80, 60);
+  const int lights = 4;
+  const std::vector<Vec3d> truth = {{12, 11, 10}, {30, 28, 24}, {0.8, 0.9, 1.0}, {5, 2, 1}};
+  const std::vector<double> exposure = {1.0, 0.7, 1.3};
+  std::vector<ViewLightData> views(3);
+  for (size_t v = 0; v < views.size(); ++v) {
+    views[v].mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+    views[v].photo = cv::Mat::zeros(size, CV_32FC3);
+    for (int k = 0; k < lights; ++k) {
+      views[v].perLight.push_back(smoothField(size, rng, 20.0f + 10 * k));
+      cv::Mat contribution;
+      cv::multiply(views[v].perLight[k], cv::Scalar(truth[k].x(), truth[k].y(), truth[k].z()), contribution);
+      views[v].photo += contribution * exposure[v];
+    }
+    for (int y = 0; y < size.height; ++y)  // 1% multiplicative noise
+      for (int x = 0; x < size.width; ++x) views[v].photo.at<cv::Vec3f>(y, x) *= 1.0f + 0.01f * rng.normal();
+  }
+  const LightSolution s = solveLights(views);
+  for (int k = 0; k < lights; ++k) {
+    EXPECT_FALSE(s.dropped[k]);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.intensity[k][c] / truth[k][c], 1.0, 0.03) << "light " << k << " c " << c;
+  }
+  EXPECT_NEAR(s.exposure[1], 0.7, 0.01);
+  EXPECT_NEAR(s.exposure[2], 1.3, 0.02);
+  EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
+}
+
+TEST(Lighting_Solve, a_light_that_only_hurts_is_dropped_and_saturated_pixels_ignored) {
+  Rng rng(8);
+  const cv::Size size(60, 40);
+  ViewLightData v;
+  v.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+  v.perLight = {smoothField(size, rng, 25), smoothField(size, rng, 15)};
+  cv::multiply(v.perLight[0], cv::Scalar(10, 10, 10), v.photo);
+  // the second light brightens a region the photo shows dark: any positive weight hurts
+  v.perLight[1].setTo(cv::Scalar(0, 0, 0));
+  v.perLight[1](cv::Rect(0, 0, 20, 20)).setTo(cv::Scalar(0.05, 0.05, 0.05));
+  v.photo(cv::Rect(0, 0, 20, 20)) *= 0.2;
+  // clipped pixels (a light seen directly) must not pull the fit
+  v.photo(cv::Rect(50, 30, 10, 10)).setTo(cv::Scalar(1, 1, 1));
+  v.perLight[0](cv::Rect(50, 30, 10, 10)).setTo(cv::Scalar(5, 5, 5));
+  const LightSolution s = solveLights({v});
+  EXPECT_TRUE(s.dropped[1]);
+  EXPECT_EQ(s.intensity[1].maxCoeff(), 0.0);
+  EXPECT_FALSE(s.dropped[0]);
+  EXPECT_NEAR(s.intensity[0].x(), 10.0, 1.0);
+}
+
+TEST(Lighting_Solve, refuses_empty_input) {
+  ViewLightData v;
+  v.photo = cv::Mat(4, 4, CV_32FC3, cv::Scalar(1, 1, 1));  // all saturated
+  v.mask = cv::Mat(4, 4, CV_8UC1, cv::Scalar(255));
+  v.perLight = {cv::Mat(4, 4, CV_32FC3, cv::Scalar(1, 1, 1))};
+  EXPECT_THROW(solveLights({v}), Exception);
+  EXPECT_THROW(solveLights({}), Exception);
+}
+
+}  // namespace
+}  // namespace ps::lighting
