@@ -1,0 +1,4 @@
+// photoscene optim: Adam over parameter vectors, early stopping, and the per-part material fit.
+#pragma once
+
+#include "photoscene/optim/adam.hpp"
