@@ -98,6 +98,12 @@ GaborBank makeGaborBank(const TextureDescriptorOptions& o) {
       maxHi = std::max(maxHi, std::abs(static_cast<double>(hi)));
       maxVi = std::max(maxVi, std::abs(static_cast<double>(vi)));
     }
+    double sumHr = 0.0, sumVr = 0.0;
+    for (int i = 0; i < n; ++i) {
+      sumHr += ori.hr.at<float>(0, i);
+      sumVr += ori.vr.at<float>(i, 0);
+    }
+    ori.dc = static_cast<float>(sumHr * sumVr);
     ori.hiZero = maxHi < 1e-7;
     ori.viZero = maxVi < 1e-7;
     if (ori.hiZero) ori.hi.setTo(0);
@@ -205,6 +211,10 @@ void forwardDescriptor(const cv::Mat& image, const MaskPyramid& p, const GaborBa
   }
   for (int s = 1; s < S; ++s) st.z[s] = downsample(st.z[s - 1], bank);
 
+  // The envelope-filtered levels, for the DC correction of the real parts.
+  std::vector<cv::Mat> env(S);
+  for (int s = 0; s < S; ++s)
+    cv::sepFilter2D(st.z[s], env[s], CV_32F, bank.envH, bank.envV, cv::Point(-1, -1), 0.0, kBorder);
   st.a.assign(S * K, cv::Mat());
   st.b.assign(S * K, cv::Mat());
   st.mag.assign(S * K, cv::Mat());
@@ -229,6 +239,7 @@ void forwardDescriptor(const cv::Mat& image, const MaskPyramid& p, const GaborBa
       correlate(tI, tmp, ori.vr);
       b += tmp;
     }
+    if (ori.dc != 0.0f) cv::scaleAdd(env[s], -ori.dc, a, a);
     cv::Mat mag(z.size(), CV_32F);
     const cv::Mat& w = p.weight[s];
     double sa = 0, sa2 = 0, sm = 0, sm2 = 0;
@@ -323,6 +334,10 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
       }
       correlate(gtI, tmp, ori.hiF);
       out += tmp;
+    }
+    if (ori.dc != 0.0f) {  // a -= dc * env(z): the envelope is symmetric, its own adjoint
+      cv::sepFilter2D(ga, tmp, CV_32F, bank.envH, bank.envV, cv::Point(-1, -1), 0.0, kBorder);
+      cv::scaleAdd(tmp, -ori.dc, out, out);
     }
     gz[band] = out;
   });

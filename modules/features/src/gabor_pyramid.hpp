@@ -15,6 +15,7 @@ struct GaborBank {
     cv::Mat hr, hi, vr, vi;          // 1 x n (h*) and n x 1 (v*), CV_32F
     cv::Mat hrF, hiF, vrF, viF;      // flipped
     bool hiZero = false, viZero = false;
+    float dc = 0.0f;  // DC of the real kernel: a -= dc * (envelope * z) makes it zero-mean
   };
   std::vector<Orientation> orient;
   cv::Mat envH, envV;  // Gaussian envelope, 1 x n and n x 1, each summing to 1

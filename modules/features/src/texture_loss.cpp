@@ -100,6 +100,7 @@ double textureLossForward(TextureLossParams& params) {
   PS_Check(params.target != nullptr, "TextureLossParams.target is null");
   const TextureLossTarget::Impl& t = params.target->impl();
   checkImage(params.render, CV_32FC3, t.size, "texture loss render");
+  PS_Check(allFinite(params.render(t.pyramid.crop)), "texture loss render has NaN or Inf values");
   if (!params.workspace) params.workspace = std::make_shared<TextureLossWorkspace>();
   ForwardState& st = params.workspace->state;
   forwardDescriptor(params.render, t.pyramid, t.bank, t.options.descriptor, st, true);

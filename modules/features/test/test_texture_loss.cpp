@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 namespace ps {
 namespace {
@@ -59,6 +60,8 @@ TEST(Features_TextureLoss, gradient_matches_finite_differences) {
   pixels.insert(pixels.end(), outside.begin(), outside.end());
   const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 2e-3);
   EXPECT_EQ(r.checked, 3 * 28);
+  std::printf("[   info   ] gradient check: %d entries, max rel error %.3g, max abs error %.3g\n",
+              r.checked, r.maxRelError, r.maxAbsError);
   // Float filtering limits the finite differences to about 1e-3 relative; a wrong adjoint (a
   // missing flip, a dropped term) gives errors of order 1.
   EXPECT_LT(r.maxRelError, 2e-2) << "max abs error " << r.maxAbsError << ", floor " << r.floor;

@@ -12,7 +12,9 @@
 //     the mask goes down the same way as a coverage map M_s in [0, 1] (M_0 = M as 0/1).
 //  4. At every level s and orientation theta_k = k * pi / numOrientations, a complex Gabor filter
 //     g(x, y) = exp(-(x^2 + y^2) / (2 sigma^2)) * exp(i omega (x cos theta_k + y sin theta_k)),
-//     omega = 2 pi centerFrequency, x to the right, y down (rows). The envelope is isotropic, so
+//     omega = 2 pi centerFrequency, x to the right, y down (rows), its real part made zero-mean
+//     by subtracting dc_k times the (normalized) envelope (the Morlet correction; it keeps the
+//     even filter blind to the region's low frequencies). The envelope is isotropic, so
 //     the filter is separable in complex arithmetic and a 90-degree image rotation maps
 //     orientation k onto k + numOrientations / 2 exactly. Response r = a + i b (a: even / real,
 //     b: odd / imaginary), magnitude |r| = sqrt(a^2 + b^2 + eps^2).
@@ -54,10 +56,13 @@ struct TextureDescriptorOptions {
   int numScales = 4;
   /// Orientations in [0, pi), >= 1; even counts make 90-degree rotations exact band shifts.
   int numOrientations = 4;
-  /// Gabor center frequency in cycles per pixel of its level, in (0, 0.5).
-  double centerFrequency = 0.28;
-  /// Gabor envelope standard deviation in pixels of its level (2.0 with 0.28: one-octave bandwidth).
-  double sigma = 2.0;
+  /// Gabor center frequency in cycles per pixel of its level, in (0, 0.5): level s is tuned to
+  /// periods of 4 * 2^s pixels with the default.
+  double centerFrequency = 0.25;
+  /// Gabor envelope standard deviation in pixels of its level. 1.5 with 0.25 gives a half-power
+  /// bandwidth of about 1.6 octaves, so neighbouring octaves overlap and the energy of a grating
+  /// moves smoothly between bands as its period changes (no gaps in the bank's response).
+  double sigma = 1.5;
   /// Kernel half-width in sigmas (the kernel has 2 * ceil(kernelRadiusSigmas * sigma) + 1 taps).
   double kernelRadiusSigmas = 2.5;
   /// Exponent on the envelope-inside-mask fraction in the statistics' weights (0: plain mask).
