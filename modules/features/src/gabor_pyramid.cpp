@@ -14,6 +14,8 @@ namespace {
 
 constexpr double kLumR = 0.2126, kLumG = 0.7152, kLumB = 0.0722;
 constexpr int kBorder = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
+// Responses near the mask's edge are amplified by at most 1 / sqrt(this).
+constexpr double kMinEnergyCoverage = 0.1;
 
 // Correlation with zero padding (the adjoint is correlation with the flipped kernel).
 void correlate(const cv::Mat& src, cv::Mat& dst, const cv::Mat& kernel) {
@@ -73,6 +75,12 @@ GaborBank makeGaborBank(const TextureDescriptorOptions& o) {
   bank.envH.create(1, n, CV_32F);
   for (int i = 0; i < n; ++i) bank.envH.at<float>(0, i) = static_cast<float>(env[i] / envSum);
   bank.envV = bank.envH.t();
+  double env2Sum = 0.0;
+  for (int i = 0; i < n; ++i) env2Sum += env[i] * env[i];
+  bank.env2H.create(1, n, CV_32F);
+  for (int i = 0; i < n; ++i)
+    bank.env2H.at<float>(0, i) = static_cast<float>(env[i] * env[i] / env2Sum);
+  bank.env2V = bank.env2H.t();
   // Each 1-D factor sums to sqrt(2): the 2-D envelope sums to 2, so a unit-amplitude grating at
   // the center frequency gives |r| of about 1.
   const double scale = std::sqrt(2.0) / envSum;
@@ -162,6 +170,23 @@ MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions&
       w.setTo(0);
     }
     p.weight.push_back(w);
+    // Energy coverage: the share of the filter's energy (|g|^2) that falls on the region
+    // (coverage squared: the pyramid attenuates amplitudes by the coverage).
+    // Undo the pyramid blurs' attenuation at this level's center frequency (unit gain per band).
+    double pyramidGain = 1.0;
+    for (int j = 0; j < s; ++j) {
+      const double h = 0.5 * (1.0 + std::cos(2.0 * CV_PI * o.centerFrequency * std::ldexp(1.0, j - s)));
+      pyramidGain *= h * h;
+    }
+    cv::Mat cov2 = coverage.mul(coverage), c2, gain(coverage.size(), CV_32F);
+    cv::sepFilter2D(cov2, c2, CV_32F, bank.env2H, bank.env2V, cv::Point(-1, -1), 0.0, kBorder);
+    for (int y = 0; y < gain.rows; ++y) {
+      const float* c = c2.ptr<float>(y);
+      float* g = gain.ptr<float>(y);
+      for (int x = 0; x < gain.cols; ++x)
+        g[x] = static_cast<float>(1.0 / (pyramidGain * std::sqrt(std::max<double>(c[x], kMinEnergyCoverage))));
+    }
+    p.gain.push_back(gain);
     p.weightSum.push_back(total * std::pow(4.0, s));
   }
   return p;
@@ -240,6 +265,8 @@ void forwardDescriptor(const cv::Mat& image, const MaskPyramid& p, const GaborBa
       b += tmp;
     }
     if (ori.dc != 0.0f) cv::scaleAdd(env[s], -ori.dc, a, a);
+    a = a.mul(p.gain[s]);
+    b = b.mul(p.gain[s]);
     cv::Mat mag(z.size(), CV_32F);
     const cv::Mat& w = p.weight[s];
     double sa = 0, sa2 = 0, sm = 0, sm2 = 0;
@@ -316,6 +343,8 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
         qb[x] = static_cast<float>(gm * pb[x] * inv);
       }
     }
+    ga = ga.mul(p.gain[s]);
+    gb = gb.mul(p.gain[s]);
     const GaborBank::Orientation& ori = bank.orient[k];
     // a = Vr tR - Vi tI, b = Vi tR + Vr tI  =>  gtR = Vr' ga + Vi' gb, gtI = -Vi' ga + Vr' gb
     cv::Mat gtR, gtI, tmp;

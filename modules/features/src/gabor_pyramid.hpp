@@ -19,6 +19,7 @@ struct GaborBank {
   };
   std::vector<Orientation> orient;
   cv::Mat envH, envV;  // Gaussian envelope, 1 x n and n x 1, each summing to 1
+  cv::Mat env2H, env2V;  // squared envelope, each summing to 1
   cv::Mat blurH, blurV;  // [1 4 6 4 1] / 16
 };
 GaborBank makeGaborBank(const TextureDescriptorOptions& options);
@@ -30,6 +31,7 @@ struct MaskPyramid {
   int count = 0;                  // mask pixels
   std::vector<cv::Mat> weight;    // per level: w_s / sum(w_s), CV_32FC1 (0 where sum is 0)
   std::vector<double> weightSum;  // per level: sum(w_s) * 4^s (level-0 pixels)
+  std::vector<cv::Mat> gain;      // per level: 1 / sqrt(max(C2_s, kMinEnergyCoverage)), CV_32FC1
 };
 /// @throws ps::Exception for an empty mask
 MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions& options,

@@ -89,16 +89,22 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
       for (int ch = 0; ch < 3; ++ch) vals[ch].push_back(c[x][ch]);
     }
   }
+  // Interquartile mean per channel: as robust to highlights as the median, and continuous for
+  // two-tone textures (a checker's median jumps between its two tones).
   double median[3];
   for (int ch = 0; ch < 3; ++ch) {
-    auto mid = vals[ch].begin() + vals[ch].size() / 2;
-    std::nth_element(vals[ch].begin(), mid, vals[ch].end());
-    median[ch] = std::max(0.0, static_cast<double>(*mid));
+    std::vector<float>& v = vals[ch];
+    const size_t lo = v.size() / 4, hi = std::max(lo + 1, v.size() - v.size() / 4);
+    std::nth_element(v.begin(), v.begin() + lo, v.end());
+    std::nth_element(v.begin() + lo, v.begin() + (hi - 1), v.end());
+    double sum = 0.0;
+    for (size_t i = lo; i < hi; ++i) sum += v[i];
+    median[ch] = std::max(0.0, sum / static_cast<double>(hi - lo));
   }
   const double maxMedian = std::max({median[0], median[1], median[2]});
   cv::Mat normalized(crop.size(), CV_32FC3);
   double scale[3];
-  for (int ch = 0; ch < 3; ++ch) scale[ch] = 1.0 / (median[ch] + 1e-3 * maxMedian + 1e-12);
+  for (int ch = 0; ch < 3; ++ch) scale[ch] = 1.0 / (median[ch] + 1e-6 * maxMedian + 1e-12);
   for (int y = 0; y < crop.height; ++y) {
     const cv::Vec3f* c = image.ptr<cv::Vec3f>(crop.y + y) + crop.x;
     cv::Vec3f* d = normalized.ptr<cv::Vec3f>(y);

@@ -110,7 +110,7 @@ struct TextureKeyOptions {
   /// gives every group about the same say in a Euclidean distance).
   float colorWeight = 1.0f;
   float contrastWeight = 1.0f;
-  float anisotropyWeight = 1.0f;
+  float anisotropyWeight = 2.0f;
   /// Floor inside the logarithms of relative contrasts (contrast below it reads as flat).
   float logFloor = 1e-3f;
 
