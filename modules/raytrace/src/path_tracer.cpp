@@ -182,7 +182,7 @@ PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& mate
         }
       }
       L.envMeanLum = wsum > 0 ? static_cast<float>(lumSum / wsum) : 0.0f;
-      if (L.windowTris.empty()) L.envDist = Distribution2D(w, img.cols, img.rows);
+      L.envDist = Distribution2D(w, img.cols, img.rows);
     } else {
       L.envMeanLum = 1.0f;
     }
@@ -316,7 +316,21 @@ struct Tracer {
 
   bool envVisibleThrough(const EscapeInfo& esc) const { return L.windowTris.empty() || esc.crossedWindow; }
 
-  // Light-sampling pdf (solid angle) of the environment for a direction that escaped.
+  // Share of the window-area strategy in the environment's light sampling when it is seen
+  // through windows: an image environment mixes it with image importance sampling (a bright sun
+  // through a window is found by the image strategy, a dim uniform sky by the window strategy).
+  float windowMix() const { return L.envUnit.image.empty() ? 1.0f : 0.5f; }
+
+  float envImagePdf(const Vec3f& dir) const {
+    if (L.envUnit.image.empty()) return 1.0f / (4 * kPi);
+    const Vec2f uv = L.envUnit.directionToUv(dir);
+    const float sinT = std::sin(kPi * clampv(uv.y(), 0.0f, 1.0f));
+    if (sinT <= 1e-7f) return 0;
+    return L.envDist.pdf(uv) / (2 * kPi * kPi * sinT);
+  }
+
+  // Light-sampling pdf (solid angle) of the environment for a direction that escaped, selection
+  // probability included.
   float envPdf(const Vec3f& dir, const EscapeInfo& esc) const {
     const int envIndex = static_cast<int>(act.radiance.size());
     const float sel = act.selectPdf(envIndex);
@@ -325,14 +339,11 @@ struct Tracer {
       if (!esc.crossedWindow || L.windowArea <= 0) return 0;
       const auto& w = L.windowTris[esc.windowTri];
       const float c = std::abs(w.n.dot(dir));
-      if (c < 1e-7f) return 0;
-      return sel * esc.windowDist * esc.windowDist / (L.windowArea * c);
+      const float pw = c < 1e-7f ? 0.0f : esc.windowDist * esc.windowDist / (L.windowArea * c);
+      const float m = windowMix();
+      return sel * (m * pw + (m < 1 ? (1 - m) * envImagePdf(dir) : 0.0f));
     }
-    if (L.envUnit.image.empty()) return sel / (4 * kPi);
-    const Vec2f uv = L.envUnit.directionToUv(dir);
-    const float sinT = std::sin(kPi * clampv(uv.y(), 0.0f, 1.0f));
-    if (sinT <= 1e-7f) return 0;
-    return sel * L.envDist.pdf(uv) / (2 * kPi * kPi * sinT);
+    return sel * envImagePdf(dir);
   }
 
   Vec3f envRadiance(const Vec3f& dir) const { return envLookup(L, dir).cwiseProduct(act.envScale); }
@@ -340,82 +351,79 @@ struct Tracer {
   struct LightSample {
     Vec3f wi, Le;
     float pdf = 0, dist = 0;
-    bool env = false;
   };
 
-  bool sampleLight(const Vec3f& x, Rng& rng, LightSample* ls) {
+  // Samples an emitter point or an environment direction seen from x and tests its visibility
+  // from `org` (x offset off the surface). Returns false when nothing visible was sampled.
+  bool sampleVisibleLight(const Vec3f& x, const Vec3f& org, const Vec3f& ngo, Rng& rng, LightSample* ls) {
     if (act.select.empty()) return false;
     float selPdf = 0;
     const int i = act.select.sample(rng.uniform(), &selPdf);
     const int envIndex = static_cast<int>(act.radiance.size());
-    const float u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    const float u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    auto pointOn = [&](const PathTracer::Lights::Tri& tri) {
+      const float su = std::sqrt(u2);
+      return Vec3f(tri.p0 + tri.e1 * (su * (1 - u3)) + tri.e2 * (su * u3));
+    };
     if (i < envIndex) {
       const auto& dist = L.lightTris[i];
       if (dist.empty()) return false;
       float triPdf = 0;
       const int k = dist.sample(u1, &triPdf);
       const auto& tri = L.tris[L.lightTriIndex[i][k]];
-      const float su = std::sqrt(u2);
-      const Vec3f p = tri.p0 + tri.e1 * (su * (1 - u3)) + tri.e2 * (su * u3);
-      Vec3f d = p - x;
+      const Vec3f d = pointOn(tri) - x;
       const float dist2 = d.squaredNorm();
       if (!(dist2 > 1e-12f)) return false;
       ls->dist = std::sqrt(dist2);
       ls->wi = d / ls->dist;
       const float cosl = -tri.n.dot(ls->wi);
-      if (cosl <= 1e-6f) return false;
+      if (cosl <= 1e-6f || ls->wi.dot(ngo) <= 0) return false;
       ls->pdf = selPdf * dist2 / (L.lightArea[i] * cosl);
       ls->Le = act.radiance[i];
-      ls->env = false;
-      return ls->pdf > 0 && std::isfinite(ls->pdf);
+      if (!(ls->pdf > 0) || !std::isfinite(ls->pdf) || ls->Le.maxCoeff() <= 0) return false;
+      ++rays;
+      return !accel.occluded(org, ls->wi, 0.0f, ls->dist * (1.0f - 1e-4f));
     }
     // environment
-    ls->env = true;
     if (!L.windowTris.empty()) {
       if (L.windowArea <= 0) return false;
-      float triPdf = 0;
-      const int k = L.windowDist.sample(u1, &triPdf);
-      const auto& tri = L.windowTris[k];
-      const float su = std::sqrt(u2);
-      const Vec3f p = tri.p0 + tri.e1 * (su * (1 - u3)) + tri.e2 * (su * u3);
-      const Vec3f d = p - x;
-      const float dist2 = d.squaredNorm();
-      if (!(dist2 > 1e-12f)) return false;
-      ls->dist = std::sqrt(dist2);
-      ls->wi = d / ls->dist;
-      const float c = std::abs(tri.n.dot(ls->wi));
-      if (c <= 1e-6f) return false;
-      ls->pdf = selPdf * dist2 / (L.windowArea * c);
-    } else if (L.envUnit.image.empty()) {
-      const float z = 1 - 2 * u1, r = std::sqrt(std::max(0.0f, 1 - z * z)), phi = 2 * kPi * u2;
-      ls->wi = Vec3f(r * std::cos(phi), r * std::sin(phi), z);
-      ls->pdf = selPdf / (4 * kPi);
+      if (u0 < windowMix()) {
+        float triPdf = 0;
+        const int k = L.windowDist.sample(u1, &triPdf);
+        const Vec3f d = pointOn(L.windowTris[k]) - x;
+        const float len = d.norm();
+        if (!(len > 1e-6f)) return false;
+        ls->wi = d / len;
+      } else {
+        float uvPdf = 0;
+        const Vec2f uv = L.envDist.sample(u1, u2, &uvPdf);
+        if (uvPdf <= 0) return false;
+        ls->wi = L.envUnit.uvToDirection(uv);
+      }
+      if (ls->wi.dot(ngo) <= 0) return false;
+      EscapeInfo esc;
+      const RayHit h = traceThroughWindows(org, ls->wi, &esc);
+      if (h.valid() || !esc.crossedWindow) return false;
+      ls->pdf = envPdf(ls->wi, esc);
     } else {
-      float uvPdf = 0;
-      const Vec2f uv = L.envDist.sample(u1, u2, &uvPdf);
-      const float sinT = std::sin(kPi * uv.y());
-      if (sinT <= 1e-7f || uvPdf <= 0) return false;
-      ls->wi = L.envUnit.uvToDirection(uv);
-      ls->pdf = selPdf * uvPdf / (2 * kPi * kPi * sinT);
+      if (L.envUnit.image.empty()) {
+        const float z = 1 - 2 * u1, r = std::sqrt(std::max(0.0f, 1 - z * z)), phi = 2 * kPi * u2;
+        ls->wi = Vec3f(r * std::cos(phi), r * std::sin(phi), z);
+      } else {
+        float uvPdf = 0;
+        const Vec2f uv = L.envDist.sample(u1, u2, &uvPdf);
+        if (uvPdf <= 0) return false;
+        ls->wi = L.envUnit.uvToDirection(uv);
+      }
+      if (ls->wi.dot(ngo) <= 0) return false;
+      ls->pdf = selPdf * envImagePdf(ls->wi);
+      if (!(ls->pdf > 0)) return false;
+      ++rays;
+      if (accel.occluded(org, ls->wi, 0.0f, std::numeric_limits<float>::infinity())) return false;
     }
     ls->dist = std::numeric_limits<float>::infinity();
     ls->Le = envRadiance(ls->wi);
-    return ls->pdf > 0 && std::isfinite(ls->pdf);
-  }
-
-  // Visibility of a sampled light from x (offset origin) along wi.
-  bool visible(const Vec3f& org, const LightSample& ls) {
-    if (!ls.env) {
-      ++rays;
-      return !accel.occluded(org, ls.wi, 0.0f, ls.dist * (1.0f - 1e-4f));
-    }
-    if (L.windowTris.empty()) {
-      ++rays;
-      return !accel.occluded(org, ls.wi, 0.0f, std::numeric_limits<float>::infinity());
-    }
-    EscapeInfo esc;
-    const RayHit h = traceThroughWindows(org, ls.wi, &esc);
-    return !h.valid() && esc.crossedWindow;
+    return ls->pdf > 0 && std::isfinite(ls->pdf) && ls->Le.maxCoeff() > 0;
   }
 
   Vec3f path(Vec3f org, Vec3f dir, Rng& rng) {
@@ -470,10 +478,10 @@ struct Tracer {
 
       if (nee) {
         LightSample ls;
-        if (sampleLight(sp.p, rng, &ls) && ls.wi.dot(ngo) > 0) {
+        if (sampleVisibleLight(sp.p, orgNext, ngo, rng, &ls)) {
           const Vec3f wiL = toLocal(ls.wi);
           const Vec3f f = bsdf.eval(woL, wiL);
-          if (f.maxCoeff() > 0 && ls.Le.maxCoeff() > 0 && visible(orgNext, ls)) {
+          if (f.maxCoeff() > 0) {
             const float bp = bsdf.pdf(woL, wiL);
             const float w = powerHeuristic(ls.pdf, bp);
             Lsum += beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
@@ -45,10 +46,20 @@ Vec3f FloatTexture::sample(const Vec2f& t) const {
   if (!std::isfinite(tv)) tv = 0;
   const float x = tu * width_ - 0.5f, y = (1.0f - tv) * height_ - 0.5f;
   const float fx0 = std::floor(x), fy0 = std::floor(y);
-  const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
   const float ax = x - fx0, ay = y - fy0;
-  return (1 - ay) * ((1 - ax) * texel(x0, y0) + ax * texel(x0 + 1, y0)) +
-         ay * ((1 - ax) * texel(x0, y0 + 1) + ax * texel(x0 + 1, y0 + 1));
+  // x in [-0.5, W - 0.5): x0 in [-1, W - 1]; wrap without divisions
+  int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+  x0 = x0 < 0 ? x0 + width_ : (x0 >= width_ ? x0 - width_ : x0);
+  y0 = y0 < 0 ? y0 + height_ : (y0 >= height_ ? y0 - height_ : y0);
+  const int x1 = x0 + 1 == width_ ? 0 : x0 + 1, y1 = y0 + 1 == height_ ? 0 : y0 + 1;
+  const int c = channels_;
+  const float* r0 = data_.data() + static_cast<size_t>(y0) * width_ * c;
+  const float* r1 = data_.data() + static_cast<size_t>(y1) * width_ * c;
+  const float w00 = (1 - ax) * (1 - ay), w10 = ax * (1 - ay), w01 = (1 - ax) * ay, w11 = ax * ay;
+  Vec3f out = Vec3f::Zero();
+  for (int k = 0; k < c && k < 3; ++k)
+    out[k] = w00 * r0[x0 * c + k] + w10 * r0[x1 * c + k] + w01 * r1[x0 * c + k] + w11 * r1[x1 * c + k];
+  return out;
 }
 
 UvTransform UvTransform::fromDesc(const io::UvTransformDesc& d) {
@@ -74,8 +85,33 @@ PartMaterial PartMaterial::defaultGray(const std::string& part) {
 }
 
 namespace {
-FloatTexture readMap(const fs::path& path, const std::string& file, const std::string& key, bool color,
+// A checkout made without symlink support (git core.symlinks=false, some archive tools) turns a
+// symlinked folder into a small text file holding the link's target. Follows such placeholders
+// along `path`; returns `path` unchanged when nothing needs following.
+fs::path followSymlinkPlaceholders(const fs::path& path) {
+  if (fs::exists(path)) return path;
+  fs::path acc;
+  auto it = path.begin();
+  for (; it != path.end(); ++it) {
+    acc /= *it;
+    std::error_code ec;
+    if (fs::is_regular_file(acc, ec) && std::next(it) != path.end() && fs::file_size(acc, ec) < 1024) {
+      std::ifstream in(acc);
+      std::string target;
+      std::getline(in, target);
+      while (!target.empty() && std::isspace(static_cast<unsigned char>(target.back()))) target.pop_back();
+      const fs::path resolved = acc.parent_path() / target;
+      if (target.empty() || !fs::is_directory(resolved, ec)) return path;
+      spdlog::warn("{} is a symlink placeholder file; following it to {}", acc.string(), resolved.string());
+      acc = resolved;
+    }
+  }
+  return acc;
+}
+
+FloatTexture readMap(const fs::path& pathIn, const std::string& file, const std::string& key, bool color,
                      bool normal) {
+  const fs::path path = followSymlinkPlaceholders(pathIn);
   if (!fs::exists(path)) throw InputError(file, key, "a map file, but " + path.string() + " does not exist");
   cv::Mat img;
   if (color) {

@@ -6,3 +6,4 @@
 #include "photoscene/raytrace/bsdf.hpp"
 #include "photoscene/raytrace/gbuffer.hpp"
 #include "photoscene/raytrace/path_tracer.hpp"
+#include "photoscene/raytrace/render_twin.hpp"
