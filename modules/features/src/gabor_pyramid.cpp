@@ -51,7 +51,9 @@ cv::Mat downsampleAdjoint(const cv::Mat& g, cv::Size size, const GaborBank& bank
   return out;
 }
 
-double sumOf(const cv::Mat& m) { return cv::sum(m)[0]; }
+double sumOf(const cv::Mat& m) {
+  return cv::sum(m)[0];
+}
 
 }  // namespace
 
@@ -160,7 +162,8 @@ MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions&
       for (int x = 0; x < w.cols; ++x) {
         const double cover = std::clamp(static_cast<double>(c[x]), 0.0, 1.0);
         const double mv = std::max(0.0, static_cast<double>(m[x]));
-        d[x] = static_cast<float>(mv * (o.boundaryPower > 0 ? std::pow(cover, o.boundaryPower) : 1.0));
+        d[x] =
+            static_cast<float>(mv * (o.boundaryPower > 0 ? std::pow(cover, o.boundaryPower) : 1.0));
       }
     }
     const double total = sumOf(w);
@@ -175,7 +178,8 @@ MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions&
     // Undo the pyramid blurs' attenuation at this level's center frequency (unit gain per band).
     double pyramidGain = 1.0;
     for (int j = 0; j < s; ++j) {
-      const double h = 0.5 * (1.0 + std::cos(2.0 * CV_PI * o.centerFrequency * std::ldexp(1.0, j - s)));
+      const double h =
+          0.5 * (1.0 + std::cos(2.0 * CV_PI * o.centerFrequency * std::ldexp(1.0, j - s)));
       pyramidGain *= h * h;
     }
     cv::Mat cov2 = coverage.mul(coverage), c2, gain(coverage.size(), CV_32F);
@@ -184,7 +188,8 @@ MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions&
       const float* c = c2.ptr<float>(y);
       float* g = gain.ptr<float>(y);
       for (int x = 0; x < gain.cols; ++x)
-        g[x] = static_cast<float>(1.0 / (pyramidGain * std::sqrt(std::max<double>(c[x], kMinEnergyCoverage))));
+        g[x] = static_cast<float>(
+            1.0 / (pyramidGain * std::sqrt(std::max<double>(c[x], kMinEnergyCoverage))));
     }
     p.gain.push_back(gain);
     p.weightSum.push_back(total * std::pow(4.0, s));

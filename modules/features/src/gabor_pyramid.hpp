@@ -12,13 +12,13 @@ namespace ps::features_detail {
 /// Separable complex Gabor kernels for every orientation, and their flips (for adjoints).
 struct GaborBank {
   struct Orientation {
-    cv::Mat hr, hi, vr, vi;          // 1 x n (h*) and n x 1 (v*), CV_32F
-    cv::Mat hrF, hiF, vrF, viF;      // flipped
+    cv::Mat hr, hi, vr, vi;      // 1 x n (h*) and n x 1 (v*), CV_32F
+    cv::Mat hrF, hiF, vrF, viF;  // flipped
     bool hiZero = false, viZero = false;
     float dc = 0.0f;  // DC of the real kernel: a -= dc * (envelope * z) makes it zero-mean
   };
   std::vector<Orientation> orient;
-  cv::Mat envH, envV;  // Gaussian envelope, 1 x n and n x 1, each summing to 1
+  cv::Mat envH, envV;    // Gaussian envelope, 1 x n and n x 1, each summing to 1
   cv::Mat env2H, env2V;  // squared envelope, each summing to 1
   cv::Mat blurH, blurV;  // [1 4 6 4 1] / 16
 };
@@ -39,10 +39,10 @@ MaskPyramid makeMaskPyramid(const cv::Mat& mask, const TextureDescriptorOptions&
 
 /// Forward intermediates, kept for backward.
 struct ForwardState {
-  cv::Mat rgb;                  // CV_32FC3 crop (a copy)
-  std::vector<cv::Mat> z;       // per level, CV_32FC1
+  cv::Mat rgb;                     // CV_32FC3 crop (a copy)
+  std::vector<cv::Mat> z;          // per level, CV_32FC1
   std::vector<cv::Mat> a, b, mag;  // per band (s * K + k)
-  std::vector<double> values;   // descriptor, double
+  std::vector<double> values;      // descriptor, double
 };
 
 /// Computes the descriptor of image (full size, CV_32FC3) over pyramid.crop.

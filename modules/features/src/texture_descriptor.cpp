@@ -13,17 +13,20 @@ using namespace features_detail;
 
 bool TextureDescriptorOptions::IsValid(std::string* error) const {
   std::ostringstream os;
-  if (numScales < 1 || numScales > 12) os << "numScales must be in [1, 12], got " << numScales;
+  if (numScales < 1 || numScales > 12)
+    os << "numScales must be in [1, 12], got " << numScales;
   else if (numOrientations < 1 || numOrientations > 32)
     os << "numOrientations must be in [1, 32], got " << numOrientations;
   else if (!(centerFrequency > 0.0 && centerFrequency < 0.5))
     os << "centerFrequency must be in (0, 0.5) cycles per pixel, got " << centerFrequency;
-  else if (!(sigma >= 0.5 && sigma <= 16.0)) os << "sigma must be in [0.5, 16], got " << sigma;
+  else if (!(sigma >= 0.5 && sigma <= 16.0))
+    os << "sigma must be in [0.5, 16], got " << sigma;
   else if (!(kernelRadiusSigmas >= 1.0 && kernelRadiusSigmas <= 5.0))
     os << "kernelRadiusSigmas must be in [1, 5], got " << kernelRadiusSigmas;
   else if (!(boundaryPower >= 0.0 && boundaryPower <= 16.0))
     os << "boundaryPower must be in [0, 16], got " << boundaryPower;
-  else if (!(epsilon > 0.0 && epsilon < 1.0)) os << "epsilon must be in (0, 1), got " << epsilon;
+  else if (!(epsilon > 0.0 && epsilon < 1.0))
+    os << "epsilon must be in (0, 1), got " << epsilon;
   const std::string msg = os.str();
   if (error) *error = msg;
   return msg.empty();
@@ -34,7 +37,8 @@ bool TextureKeyOptions::IsValid(std::string* error) const {
   std::string msg;
   if (!(colorWeight >= 0 && contrastWeight >= 0 && anisotropyWeight >= 0))
     msg = "key group weights must be >= 0";
-  else if (!(logFloor > 0.0f)) msg = "logFloor must be > 0";
+  else if (!(logFloor > 0.0f))
+    msg = "logFloor must be > 0";
   if (error) *error = msg;
   return msg.empty();
 }
@@ -78,7 +82,7 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
   MaskPyramid pyramid = makeMaskPyramid(mask, o, bank);
   const cv::Rect crop = pyramid.crop;
 
-  // Per-channel medians over the mask (the paper's median matching).
+  // Per-channel levels over the mask (the paper matches medians).
   std::vector<float> vals[3];
   for (auto& v : vals) v.reserve(pyramid.count);
   for (int y = 0; y < crop.height; ++y) {
@@ -91,7 +95,7 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
   }
   // Interquartile mean per channel: as robust to highlights as the median, and continuous for
   // two-tone textures (a checker's median jumps between its two tones).
-  double median[3];
+  double level[3];
   for (int ch = 0; ch < 3; ++ch) {
     std::vector<float>& v = vals[ch];
     const size_t lo = v.size() / 4, hi = std::max(lo + 1, v.size() - v.size() / 4);
@@ -99,12 +103,12 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
     std::nth_element(v.begin() + lo, v.begin() + (hi - 1), v.end());
     double sum = 0.0;
     for (size_t i = lo; i < hi; ++i) sum += v[i];
-    median[ch] = std::max(0.0, sum / static_cast<double>(hi - lo));
+    level[ch] = std::max(0.0, sum / static_cast<double>(hi - lo));
   }
-  const double maxMedian = std::max({median[0], median[1], median[2]});
+  const double maxLevel = std::max({level[0], level[1], level[2]});
   cv::Mat normalized(crop.size(), CV_32FC3);
   double scale[3];
-  for (int ch = 0; ch < 3; ++ch) scale[ch] = 1.0 / (median[ch] + 1e-6 * maxMedian + 1e-12);
+  for (int ch = 0; ch < 3; ++ch) scale[ch] = 1.0 / (level[ch] + 1e-6 * maxLevel + 1e-12);
   for (int y = 0; y < crop.height; ++y) {
     const cv::Vec3f* c = image.ptr<cv::Vec3f>(crop.y + y) + crop.x;
     cv::Vec3f* d = normalized.ptr<cv::Vec3f>(y);
@@ -184,10 +188,12 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
   std::vector<float> out(key.size());
   for (size_t i = 0; i < key.size(); ++i) {
     double w;
-    if (static_cast<int>(i) < nColor) w = options.colorWeight / std::sqrt(nColor);
+    if (static_cast<int>(i) < nColor)
+      w = options.colorWeight / std::sqrt(nColor);
     else if (static_cast<int>(i) < nColor + nContrast)
       w = options.contrastWeight / std::sqrt(nContrast);
-    else w = options.anisotropyWeight / std::sqrt(std::max(1, nAniso));
+    else
+      w = options.anisotropyWeight / std::sqrt(std::max(1, nAniso));
     out[i] = static_cast<float>(w * key[i]);
   }
   PS_CheckEQ(static_cast<int>(out.size()), keyLength(options), "key length");

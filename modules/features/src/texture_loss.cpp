@@ -90,11 +90,21 @@ TextureLossTarget::~TextureLossTarget() = default;
 TextureLossTarget::TextureLossTarget(TextureLossTarget&&) noexcept = default;
 TextureLossTarget& TextureLossTarget::operator=(TextureLossTarget&&) noexcept = default;
 
-const TextureLossOptions& TextureLossTarget::options() const { return impl_->options; }
-const TextureDescriptor& TextureLossTarget::descriptor() const { return impl_->descriptor; }
-cv::Size TextureLossTarget::imageSize() const { return impl_->size; }
-cv::Rect TextureLossTarget::crop() const { return impl_->pyramid.crop; }
-double TextureLossTarget::normalizer() const { return impl_->nu; }
+const TextureLossOptions& TextureLossTarget::options() const {
+  return impl_->options;
+}
+const TextureDescriptor& TextureLossTarget::descriptor() const {
+  return impl_->descriptor;
+}
+cv::Size TextureLossTarget::imageSize() const {
+  return impl_->size;
+}
+cv::Rect TextureLossTarget::crop() const {
+  return impl_->pyramid.crop;
+}
+double TextureLossTarget::normalizer() const {
+  return impl_->nu;
+}
 
 double textureLossForward(TextureLossParams& params) {
   PS_Check(params.target != nullptr, "TextureLossParams.target is null");
@@ -179,8 +189,8 @@ TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& targe
   for (size_t i = 0; i < numeric.size(); ++i) {
     const double e = std::abs(analytic[i] - numeric[i]);
     r.maxAbsError = std::max(r.maxAbsError, e);
-    r.maxRelError = std::max(
-        r.maxRelError, e / std::max({std::abs(analytic[i]), std::abs(numeric[i]), r.floor}));
+    r.maxRelError = std::max(r.maxRelError,
+                             e / std::max({std::abs(analytic[i]), std::abs(numeric[i]), r.floor}));
   }
   r.checked = static_cast<int>(numeric.size());
   return r;

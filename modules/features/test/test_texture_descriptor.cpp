@@ -35,9 +35,8 @@ double relKeyChange(const std::vector<float>& a, const std::vector<float>& b) {
 
 cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {
   cv::Mat out = img.clone();
-  out.forEach<cv::Vec3f>([&](cv::Vec3f& p, const int*) {
-    p = cv::Vec3f(p[0] * s[0], p[1] * s[1], p[2] * s[2]);
-  });
+  out.forEach<cv::Vec3f>(
+      [&](cv::Vec3f& p, const int*) { p = cv::Vec3f(p[0] * s[0], p[1] * s[1], p[2] * s[2]); });
   return out;
 }
 
@@ -98,7 +97,8 @@ TEST(Features_TextureDescriptor, entries_scale_with_the_image) {
   const cv::Mat img = stripes(size, 6.0, 30.0) + noise(size, 1.0, 2) * 0.2;
   const cv::Mat mask = diskMask(size, {60, 50}, 45);
   const std::vector<float> a = values(img, mask), b = values(img * 3.0, mask);
-  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(b[i], 3.0f * a[i], 1e-4 + 1e-4 * std::abs(b[i]));
+  for (size_t i = 0; i < a.size(); ++i)
+    EXPECT_NEAR(b[i], 3.0f * a[i], 1e-4 + 1e-4 * std::abs(b[i]));
 }
 
 // A grating's energy lands in the band tuned to it: period 8 = level 1, orientation by angle.
@@ -140,12 +140,14 @@ TEST(Features_TextureKey, invariant_to_lighting_color_and_level) {
   const cv::Mat mask = diskMask(size, {80, 60}, 55);
   Rng rng(17);
   double worst = 0.0;
-  for (const cv::Mat& tex : {noise(size, 1.5, 3), cv::Mat(stripes(size, 7.0, 30.0) + noise(size, 1, 4) * 0.1),
-                             checker(size, 6)}) {
+  for (const cv::Mat& tex :
+       {noise(size, 1.5, 3), cv::Mat(stripes(size, 7.0, 30.0) + noise(size, 1, 4) * 0.1),
+        checker(size, 6)}) {
     const std::vector<float> k0 = computeTextureKey(tex, mask);
     for (int i = 0; i < 6; ++i) {
       const float level = std::exp(rng.uniform(-3.0f, 3.0f));
-      const cv::Vec3f color(rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f));
+      const cv::Vec3f color(rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f),
+                            rng.uniform(0.2f, 1.0f));
       const std::vector<float> k1 = computeTextureKey(scaleChannels(tex, color * level), mask);
       worst = std::max(worst, relKeyChange(k0, k1));
     }
@@ -163,8 +165,14 @@ std::vector<Named> proceduralTextures(cv::Size size) {
   return {
       {"stripes fine 30deg", [=](int v) { return stripes(size, 5.0, 30.0, v * 1.3); }},
       {"stripes coarse 30deg", [=](int v) { return stripes(size, 14.0, 30.0, v * 1.3); }},
-      {"checker 4", [=](int v) { return checker(size, 4, {v, 2 * v}); }},
-      {"checker 12", [=](int v) { return checker(size, 12, {3 * v, 5 * v}); }},
+      {"checker 4",
+       [=](int v) {
+         return checker(size, 4, {v, 2 * v});
+       }},
+      {"checker 12",
+       [=](int v) {
+         return checker(size, 12, {3 * v, 5 * v});
+       }},
       {"noise fine", [=](int v) { return noise(size, 1.0, 100 + v); }},
       {"noise coarse", [=](int v) { return noise(size, 4.0, 200 + v); }},
   };
@@ -195,9 +203,10 @@ TEST(Features_TextureKey, discriminates_textures) {
               closest = textures[t].name + " / " + textures[u].name;
             }
           }
-    std::printf("[   info   ] %s: max same-texture distance %.4g, min different-texture %.4g "
-                "(%s), margin %.1fx\n",
-                useKey ? "key" : "descriptor", maxSame, minDiff, closest.c_str(), minDiff / maxSame);
+    std::printf(
+        "[   info   ] %s: max same-texture distance %.4g, min different-texture %.4g "
+        "(%s), margin %.1fx\n",
+        useKey ? "key" : "descriptor", maxSame, minDiff, closest.c_str(), minDiff / maxSame);
     // The key is built for retrieval; the raw descriptor (the loss) also separates them, by less.
     EXPECT_GT(minDiff, (useKey ? 3.0 : 2.5) * maxSame) << closest;
   }
@@ -211,9 +220,15 @@ void expectRetrieval(const std::vector<std::string>& names, const std::vector<cv
   std::vector<std::vector<float>> bank;
   for (const cv::Mat& img : images) bank.push_back(computeTextureKey(img, mask));
   const std::vector<std::pair<std::string, std::function<cv::Mat(const cv::Mat&)>>> transforms = {
-      {"rot90", [](const cv::Mat& m) { cv::Mat r; cv::rotate(m, r, cv::ROTATE_90_CLOCKWISE); return r; }},
+      {"rot90",
+       [](const cv::Mat& m) {
+         cv::Mat r;
+         cv::rotate(m, r, cv::ROTATE_90_CLOCKWISE);
+         return r;
+       }},
       {"zoom1.25", [](const cv::Mat& m) { return zoom(m, 1.25); }},
-      {"rot90+zoom1.25", [](const cv::Mat& m) {
+      {"rot90+zoom1.25",
+       [](const cv::Mat& m) {
          cv::Mat r;
          cv::rotate(m, r, cv::ROTATE_90_COUNTERCLOCKWISE);
          return zoom(r, 1.25);
@@ -224,10 +239,11 @@ void expectRetrieval(const std::vector<std::string>& names, const std::vector<cv
     double worstRatio = 1e30;
     std::string worst;
     for (size_t i = 0; i < images.size(); ++i) {
-      const cv::Vec3f light = cv::Vec3f(rng.uniform(0.3f, 1.0f), rng.uniform(0.3f, 1.0f),
-                                        rng.uniform(0.3f, 1.0f)) *
-                              std::exp(rng.uniform(-2.0f, 2.0f));
-      const std::vector<float> q = computeTextureKey(scaleChannels(transform(images[i]), light), mask);
+      const cv::Vec3f light =
+          cv::Vec3f(rng.uniform(0.3f, 1.0f), rng.uniform(0.3f, 1.0f), rng.uniform(0.3f, 1.0f)) *
+          std::exp(rng.uniform(-2.0f, 2.0f));
+      const std::vector<float> q =
+          computeTextureKey(scaleChannels(transform(images[i]), light), mask);
       const double self = descriptorDistance(q, bank[i]);
       double other = 1e30;
       size_t otherIdx = 0;
@@ -243,8 +259,9 @@ void expectRetrieval(const std::vector<std::string>& names, const std::vector<cv
       }
     }
     const double accuracy = double(correct) / images.size();
-    std::printf("[   info   ] %s %s: %d/%zu retrieved, worst other/self distance ratio %.2f at %s\n",
-                what, tname.c_str(), correct, images.size(), worstRatio, worst.c_str());
+    std::printf(
+        "[   info   ] %s %s: %d/%zu retrieved, worst other/self distance ratio %.2f at %s\n", what,
+        tname.c_str(), correct, images.size(), worstRatio, worst.c_str());
     EXPECT_GE(accuracy, minAccuracy) << what << " " << tname;
   }
 }
@@ -277,7 +294,8 @@ TEST(Features_TextureKey, robust_to_rotation_and_scale_photographed) {
         files.push_back(e.path());
     }
   }
-  if (files.size() < 4) GTEST_SKIP() << "photographed textures not found under " << PS_SHARED_DATA_DIR;
+  if (files.size() < 4)
+    GTEST_SKIP() << "photographed textures not found under " << PS_SHARED_DATA_DIR;
   std::sort(files.begin(), files.end());
   const cv::Size size(192, 192);
   const cv::Mat mask = diskMask(size, {96, 96}, 72);
@@ -311,7 +329,8 @@ TEST(Features_TextureKey, robust_to_mask_shape) {
   for (const cv::Mat& shape : {ring, strip}) {
     for (size_t t = 0; t < textures.size(); ++t) {
       const cv::Mat img = textures[t].make(0);
-      const double self = descriptorDistance(computeTextureKey(img, shape), computeTextureKey(img, blob));
+      const double self =
+          descriptorDistance(computeTextureKey(img, shape), computeTextureKey(img, blob));
       double other = 1e30;
       for (size_t u = 0; u < textures.size(); ++u) {
         if (u == t) continue;

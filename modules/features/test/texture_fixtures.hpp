@@ -60,6 +60,8 @@ inline cv::Mat diskMask(cv::Size size, cv::Point center, int radius) {
 }
 
 /// A disk of about 20k pixels centered in a 320 x 240 image (radius 80: 20,100 pixels).
-inline cv::Mat partMask320() { return diskMask({320, 240}, {160, 120}, 80); }
+inline cv::Mat partMask320() {
+  return diskMask({320, 240}, {160, 120}, 80);
+}
 
 }  // namespace ps::test

@@ -17,7 +17,14 @@
 //     even filter blind to the region's low frequencies). The envelope is isotropic, so
 //     the filter is separable in complex arithmetic and a 90-degree image rotation maps
 //     orientation k onto k + numOrientations / 2 exactly. Response r = a + i b (a: even / real,
-//     b: odd / imaginary), magnitude |r| = sqrt(a^2 + b^2 + eps^2).
+//     b: odd / imaginary), then two fixed per-pixel gains (they depend on the mask only):
+//       - unit band gain: divided by the pyramid blurs' attenuation at the band's center
+//         frequency, so a unit-amplitude grating at a band's center gives |r| = 1 in that band;
+//       - edge compensation: divided by sqrt(max(E_s, 0.1)), E_s the share of the filter's
+//         energy |g|^2 that falls on the region (coverage M_s squared, filtered by the squared
+//         envelope), so responses that straddle the mask's edge are not biased low (a thin strip
+//         keeps its texture energy; the amplification is at most 3.16).
+//     Magnitude |r| = sqrt(a^2 + b^2 + eps^2).
 //  5. Masked statistics with weights w_s = M_s * C_s^boundaryPower, where C_s is the fraction of
 //     the Gabor envelope (a Gaussian of the same sigma) that lies inside M_s. Pixels whose filter
 //     support reaches outside the mask count less, smoothly; nothing is ever cut to zero weight,
@@ -67,7 +74,8 @@ struct TextureDescriptorOptions {
   double kernelRadiusSigmas = 2.5;
   /// Exponent on the envelope-inside-mask fraction in the statistics' weights (0: plain mask).
   double boundaryPower = 2.0;
-  /// Regularizer in magnitudes and standard deviations (linear units): keeps their gradients finite.
+  /// Regularizer in magnitudes and standard deviations (linear units): keeps their gradients
+  /// finite.
   double epsilon = 1e-5;
 
   bool IsValid(std::string* error) const;
@@ -85,10 +93,10 @@ int bandIndex(const TextureDescriptorOptions& options, int scale, int orientatio
 
 /// A descriptor with what was needed to read it.
 struct TextureDescriptor {
-  std::vector<float> values;        ///< descriptorLength(options) entries, layout above
+  std::vector<float> values;  ///< descriptorLength(options) entries, layout above
   int numScales = 0;
   int numOrientations = 0;
-  int maskPixels = 0;               ///< non-zero mask pixels
+  int maskPixels = 0;  ///< non-zero mask pixels
   /// Per scale: sum of the statistics' weights w_s, in level-0 pixels (weights * 4^s). Compare
   /// with maskPixels: a scale whose support is a small fraction of it rests on boundary pixels.
   std::vector<float> scaleSupport;
@@ -106,8 +114,9 @@ TextureDescriptor computeTextureDescriptor(const cv::Mat& image, const cv::Mat& 
 /// Options of the kNN key.
 struct TextureKeyOptions {
   TextureDescriptorOptions descriptor;
-  /// Group weights (each group's entries are also divided by sqrt(its size), so a weight of 1
-  /// gives every group about the same say in a Euclidean distance).
+  /// Group weights (each group's entries are also divided by sqrt(its size)). The anisotropy
+  /// entries lie in [0, 1] while log contrasts span several units, hence its larger default
+  /// (measured: it separates a 30-degree grating from a checker of the same period).
   float colorWeight = 1.0f;
   float contrastWeight = 1.0f;
   float anisotropyWeight = 2.0f;
@@ -122,13 +131,15 @@ int keyLength(const TextureKeyOptions& options);
 
 /// The lighting-invariant, rotation-robust key of a region, for a Euclidean kNN index.
 ///
-/// Each channel is first divided by its median over the mask (the paper's per-channel median
-/// matching), so lighting color and level (any positive per-channel scale) leave the key unchanged,
-/// and the material's mean color is deliberately not part of it. Then, from the descriptor of the
-/// normalized image (S = numScales, K = numOrientations):
+/// Each channel is first divided by its interquartile mean over the mask (the mean of the values
+/// between the 25th and 75th percentiles: the paper matches per-channel medians; the interquartile
+/// mean is as robust to highlights and, unlike the median, does not jump between the two tones of
+/// a two-tone texture as the region shifts), so lighting color and level (any positive per-channel
+/// scale) leave the key unchanged, and the material's mean color is deliberately not part of it.
+/// Then, from the descriptor of the normalized image (S = numScales, K = numOrientations):
 ///   [0..2]  log(std of normalized R, G, B + logFloor)        relative color contrast
-///   [3..5]  correlation of (R, G), (G, B), (B, R) over the mask (in [-1, 1]; 0 if a channel is flat)
-///   then per scale s (3 entries): log(orientation mean of meanMag + logFloor),
+///   [3..5]  correlation of (R, G), (G, B), (B, R) over the mask (in [-1, 1]; 0 if a channel is
+///   flat) then per scale s (3 entries): log(orientation mean of meanMag + logFloor),
 ///           log(orientation mean of stdMag + logFloor), log(orientation mean of stdRe + logFloor)
 ///           -- orientation-pooled, hence rotation-invariant, relative band contrast
 ///   then per scale s (K/2 entries): |DFT_h| for h = 1..K/2 of the orientation profile
@@ -137,7 +148,7 @@ int keyLength(const TextureKeyOptions& options);
 ///           so exactly invariant to rotations by multiples of pi / K and smooth in between.
 /// Groups are scaled by (weight / sqrt(group size)): color 6 entries, contrast 3S, anisotropy
 /// S*K/2. With the defaults the key has 26 entries. The key is not unit length on purpose: the
-/// log contrasts carry the absolute (relative-to-median) texture strength.
+/// log contrasts carry the absolute (relative-to-mean-level) texture strength.
 /// Scale: a change of the texture's scale by a factor f moves energy between neighbouring
 /// octaves smoothly (log2 f octaves); for retrieval under unknown scale, keep the key's scales and
 /// let the bank hold each exemplar at a few scales (the UV search refines the rest).

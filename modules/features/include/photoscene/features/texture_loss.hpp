@@ -113,9 +113,9 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
 
 /// Finite-difference check of textureLossBackward at chosen pixels and channels.
 struct TextureLossGradientCheck {
-  double maxAbsError = 0.0;   ///< max |analytic - numeric|
-  double maxRelError = 0.0;   ///< max |analytic - numeric| / max(|analytic|, |numeric|, floor)
-  double floor = 0.0;         ///< the floor used: 1e-3 * max |numeric| over the checked entries
+  double maxAbsError = 0.0;  ///< max |analytic - numeric|
+  double maxRelError = 0.0;  ///< max |analytic - numeric| / max(|analytic|, |numeric|, floor)
+  double floor = 0.0;        ///< the floor used: 1e-3 * max |numeric| over the checked entries
   int checked = 0;
 };
 /// Central differences with step `step` (linear units) on render(p)[c] for every p in pixels
