@@ -6,7 +6,7 @@
 // Monte-Carlo noise of a low-spp render is then removed from the image metric by comparing
 // 4x4-pixel box-filtered images (80x60 blocks); per-part means are taken over the part's pixels
 // of our own G-buffer (eroded by one pixel so boundary pixels mixing two parts do not count).
-// Environment variables (for local runs): PS_RT_CYCLES_FULL=1 renders 640x480,
+// Environment variables (for local runs): PS_RT_CYCLES_DIV=1 renders 640x480 (default 4: 160x120),
 // PS_RT_CYCLES_SPP overrides the spp, PS_RT_WRITE_DIR writes the renders and comparisons.
 #include <gtest/gtest.h>
 
@@ -106,7 +106,7 @@ struct CyclesCase {
 Comparison runCase(const CyclesCase& cc, cv::Mat* oursOut = nullptr) {
   const Twin twin = loadTwin(caseDir() / "gt" / cc.twin);
   const PathTracer tracer(twin.scene, twin.materials);
-  const int scale = envInt("PS_RT_CYCLES_FULL", 0) ? 1 : 2;
+  const int scale = std::max(1, envInt("PS_RT_CYCLES_DIV", 4));
   const Camera cam = twin.scene.views[0].camera.resized(640 / scale, 480 / scale);
   RenderOptions opt;
   opt.spp = envInt("PS_RT_CYCLES_SPP", cc.spp);
@@ -130,7 +130,7 @@ Comparison runCase(const CyclesCase& cc, cv::Mat* oursOut = nullptr) {
 
 TEST(Raytrace_Cycles, lambert_twin_matches_cycles) {
   if (!fs::exists(caseDir() / "gt" / "twin_lambert" / "scene.json")) GTEST_SKIP() << "blender-room case absent";
-  const Comparison c = runCase({"twin_lambert", "lambert_view0.exr", 64});
+  const Comparison c = runCase({"twin_lambert", "lambert_view0.exr", 256});
   EXPECT_LT(c.imageRelL1, 0.02);
   EXPECT_LT(c.worstPartRel, 0.03) << c.worstPart;
   EXPECT_NEAR(c.imageMeanRatio, 1.0, 0.02);
@@ -138,7 +138,7 @@ TEST(Raytrace_Cycles, lambert_twin_matches_cycles) {
 
 TEST(Raytrace_Cycles, full_twin_matches_cycles) {
   if (!fs::exists(caseDir() / "gt" / "twin" / "scene.json")) GTEST_SKIP() << "blender-room case absent";
-  const Comparison c = runCase({"twin", "view0.exr", 64});
+  const Comparison c = runCase({"twin", "view0.exr", 256});
   EXPECT_LT(c.imageRelL1, 0.05);
   EXPECT_NEAR(c.imageMeanRatio, 1.0, 0.05);
 }
