@@ -369,3 +369,45 @@ TEST(Raytrace_Material, uv_transform_and_texture_orientation) {
 
 }  // namespace
 }  // namespace ps
+
+namespace ps {
+namespace {
+
+TEST(Raytrace_IncidentLight, furnace_grid_is_constant_and_shades_lambert_exactly) {
+  using namespace ps::test;
+  Scene scene;
+  const int part = addPart(scene, "sphere");
+  addSphere(scene.mesh, Vec3f(0, 0, 0), 1.0f, part, false, 32, 64);
+  EnvironmentLight env;
+  env.radiance = Vec3f(2.0f, 1.0f, 0.5f);
+  scene.lights.environment = env;
+  std::vector<PartMaterial> mats{lambert("sphere", 0.6f)};
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(32, 32, 60, Vec3d(0, 0.5, 4), Vec3d(0, 0, 0));
+  const GBuffer gb = renderGBuffer(tracer, cam, {1});
+  IncidentLightOptions o;
+  o.stride = 4;
+  o.samplesPerBin = 1;
+  const IncidentLightGrid grid = computeIncidentLight(tracer, gb, cam, o);
+  EXPECT_EQ(grid.width, 8);
+  int points = 0;
+  const MicrofacetBsdf lam(Vec3f::Constant(0.6f), Vec3f::Zero(), 1.0f);
+  for (int gy = 0; gy < grid.height; ++gy)
+    for (int gx = 0; gx < grid.width; ++gx) {
+      if (!grid.valid[gy * grid.width + gx]) continue;
+      ++points;
+      // a convex sphere sees only the environment over its hemisphere (the last, grazing row may
+      // dip below the facet: the shading normal of a tessellated sphere is not the face normal)
+      for (int i = 0; i + 1 < grid.thetaBins; ++i)
+        for (int j = 0; j < grid.phiBins; ++j) EXPECT_NEAR(grid.at(gx, gy, i, j).x(), 2.0f, 1e-5);
+      const Vec3f Lo = grid.shade(gx, gy, lam, Vec3f(0.3f, 0.1f, 0.95f).normalized(), 4);
+      EXPECT_NEAR(Lo.x(), 0.6f * 2.0f, 0.02 * 1.2);
+      EXPECT_NEAR(Lo.z(), 0.6f * 0.5f, 0.02 * 0.3);
+      const ShRadiance sh = projectToSh(grid, gx, gy, 3);
+      EXPECT_TRUE(sh.eval(Vec3f(0, 0, 1)).allFinite());
+    }
+  EXPECT_GT(points, 10);
+}
+
+}  // namespace
+}  // namespace ps

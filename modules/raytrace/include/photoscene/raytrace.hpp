@@ -5,5 +5,6 @@
 #include "photoscene/raytrace/accel.hpp"
 #include "photoscene/raytrace/bsdf.hpp"
 #include "photoscene/raytrace/gbuffer.hpp"
+#include "photoscene/raytrace/incident_light.hpp"
 #include "photoscene/raytrace/path_tracer.hpp"
 #include "photoscene/raytrace/render_twin.hpp"
