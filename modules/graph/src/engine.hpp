@@ -26,6 +26,7 @@ struct NodeSpec {
   std::vector<int> outChannels;    ///< per output port
   bool requiresGrad = false;       ///< a continuous exposed parameter here or upstream
   bool hasDiffBinding = false;     ///< a continuous exposed parameter targets this node
+  std::vector<char> diffParam;     ///< per node parameter: a continuous exposed parameter targets it
 };
 
 struct Binding {
@@ -112,8 +113,11 @@ class Evaluator {
     }
     // final maps
     for (int k = 0; k < kMapKindCount; ++k) {
-      final_[k] = Plane<T>();
-      if (!outputs.has(MapKind(k)) || spec_->outputs[k].node < 0) continue;
+      if (!outputs.has(MapKind(k)) || spec_->outputs[k].node < 0) {
+        final_[k].d.clear();  // keeps the buffer for the next evaluation
+        final_[k].n = final_[k].c = 0;
+        continue;
+      }
       const Plane<T>& src = source(spec_->outputs[k]);
       Plane<T>& f = final_[k];
       if (k == int(MapKind::Albedo)) {
@@ -144,12 +148,14 @@ class Evaluator {
     const auto& nodes = spec_->nodes;
     const int n = n_;
     std::vector<T> dv(spec_->valueCount, T(0));
-    for (auto& s : st_) {
-      s.dOuts.clear();
-    }
+    for (auto& s : st_) s.dActive = false;
+    // gradient buffers are kept between calls up to 1024^2 (no allocation, no page faults per
+    // backward); larger ones are freed as soon as their node is done to bound peak memory
+    const bool keep = size_t(n) * n <= (size_t(1) << 20);
     auto dOutOf = [&](const LinkRef& l) -> Plane<T>& {
       auto& s = st_[l.node];
-      if (s.dOuts.empty()) {
+      if (!s.dActive) {
+        s.dActive = true;
         s.dOuts.resize(nodes[l.node].outChannels.size());
         for (size_t o = 0; o < s.dOuts.size(); ++o) s.dOuts[o].zeros(n, nodes[l.node].outChannels[o]);
       }
@@ -195,9 +201,11 @@ class Evaluator {
     for (int i = int(nodes.size()) - 1; i >= 0; --i) {
       const NodeSpec& ns = nodes[i];
       auto& s = st_[i];
-      if (!needed_[i] || !ns.requiresGrad || s.dOuts.empty()) continue;
+      if (!needed_[i] || !ns.requiresGrad || !s.dActive) continue;
       NodeCtx<T> c = makeCtx(i);
-      std::vector<Plane<T>> bcastGrad(ns.inputs.size());
+      std::vector<Plane<T>>& bcastGrad = s.bcastGrad;
+      bcastGrad.resize(ns.inputs.size());
+      for (auto& b : bcastGrad) b.d.clear();
       c.dIn.assign(ns.inputs.size(), nullptr);
       for (size_t p = 0; p < ns.inputs.size(); ++p) {
         const LinkRef& l = ns.inputs[p];
@@ -214,6 +222,7 @@ class Evaluator {
       dParams[i].assign(ns.type->valueCount, T(0));
       c.dParam = dParams[i].data();
       c.needParamGrad = ns.hasDiffBinding;
+      c.wantParam = ns.diffParam.empty() ? nullptr : ns.diffParam.data();
       ns.type->backward<T>()(c);
       for (size_t p = 0; p < ns.inputs.size(); ++p) {
         if (bcastGrad[p].empty()) continue;
@@ -222,8 +231,12 @@ class Evaluator {
         for (size_t q = 0; q < src.d.size(); ++q)
           for (int k = 0; k < C; ++k) src.d[q] += bcastGrad[p].d[q * C + k];
       }
-      s.dOuts.clear();
-      s.dOuts.shrink_to_fit();
+      s.dActive = false;
+      if (!keep) {
+        s.dOuts.clear();
+        s.dOuts.shrink_to_fit();
+        for (auto& b : bcastGrad) b = Plane<T>();
+      }
     }
     for (size_t p = 0; p < spec_->params.size(); ++p) {
       const GraphParameter& gp = spec_->params[p];
@@ -241,9 +254,10 @@ class Evaluator {
  private:
   struct State {
     std::vector<T> params;
-    std::vector<Plane<T>> outs, scratch, bcast, dOuts;
+    std::vector<Plane<T>> outs, scratch, bcast, dOuts, bcastGrad;
     uint64_t key = 0;
     bool valid = false;
+    bool dActive = false;  ///< dOuts hold this backward pass's gradients
   };
 
   NodeCtx<T> makeCtx(int i) {

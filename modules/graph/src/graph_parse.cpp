@@ -297,7 +297,12 @@ std::shared_ptr<const GraphSpec> parseGraph(const std::string& text, const std::
           ps.fail(tw, "all targets of a parameter must have the same kind and dimension");
         }
         binds.push_back({it->second, np.offset});
-        if (np.kind == ParameterKind::Continuous) spec->nodes[it->second].hasDiffBinding = true;
+        if (np.kind == ParameterKind::Continuous) {
+          NodeSpec& bn = spec->nodes[it->second];
+          bn.hasDiffBinding = true;
+          bn.diffParam.resize(nt.desc.params.size(), 0);
+          bn.diffParam[pi] = 1;
+        }
       }
       auto num = [&](const char* key, float& v) {
         if (!jp[i].contains(key)) return;

@@ -23,6 +23,7 @@ class GraphEngine {
   std::shared_ptr<const GraphSpec> spec;
   Evaluator<float> eval;
   std::vector<float> values;
+  std::array<Plane<float>, kMapKindCount> gradPlanes;  ///< reused by backward (no allocation per call)
 };
 
 cv::Mat& MaterialMaps::get(MapKind k) {
@@ -177,7 +178,7 @@ MaterialMaps MaterialGraph::evaluate(int size, MapSet outputs) {
 }
 
 std::vector<float> MaterialGraph::backward(const MaterialMaps& dMaps) {
-  std::array<Plane<float>, kMapKindCount> planes;
+  auto& planes = engine_->gradPlanes;
   std::array<const Plane<float>*, kMapKindCount> ptrs{};
   for (int k = 0; k < kMapKindCount; ++k) {
     const cv::Mat& g = dMaps.get(MapKind(k));

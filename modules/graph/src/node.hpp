@@ -55,6 +55,10 @@ struct NodeCtx {
   std::vector<Plane<T>*> dIn;
   T* dParam = nullptr;
   bool needParamGrad = true;                ///< false: dParam may be skipped
+  const char* wantParam = nullptr;          ///< per parameter: 0 = its gradient may be skipped
+
+  /// Whether d loss / d parameter i is needed (kernels may skip work that only feeds it).
+  bool wantP(int i) const { return needParamGrad && (!wantParam || wantParam[i]); }
 
   T P(int i, int k = 0) const { return param[poff[i] + k]; }
   int I(int i) const { return static_cast<int>(std::lround(static_cast<double>(P(i)))); }
@@ -183,6 +187,18 @@ inline void forRows(int n, F&& body) {
   ps::parallelForRanges(0, n, grain, [&](int64_t a, int64_t b) {
     for (int64_t y = a; y < b; ++y) body(static_cast<int>(y));
   });
+}
+
+/// Row-parallel loop over ranges: body(y0, y1) for consecutive rows [y0, y1), so a kernel can keep
+/// per-range state (row caches) between rows.
+template <class F>
+inline void forRowRanges(int n, F&& body) {
+  const int64_t grain = std::max<int64_t>(8, 16384 / std::max(1, n));
+  if (n * n <= 64 * 64) {
+    body(0, n);
+    return;
+  }
+  ps::parallelForRanges(0, n, grain, [&](int64_t a, int64_t b) { body(int(a), int(b)); });
 }
 
 /// Bilinear sample of plane p at pixel coordinates (x, y) (pixel centers at integers), wrapping.

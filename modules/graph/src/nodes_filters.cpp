@@ -24,9 +24,12 @@ void centralDiffAdjoint(const Plane<T>& Gx, const Plane<T>& Gy, Plane<T>& dh) {
   const int n = dh.n, m = n - 1;
   const T s = T(0.5) * T(n);
   forRows(n, [&](int y) {
+    const T* gx = Gx.row(y);
+    const T* gyd = Gy.row((y + 1) & m);
+    const T* gyu = Gy.row((y - 1) & m);
+    T* d = dh.row(y);
     for (int x = 0; x < n; ++x)
-      dh.at(x, y) += s * (Gx.at((x - 1) & m, y) - Gx.at((x + 1) & m, y) +
-                          Gy.at(x, (y + 1) & m) - Gy.at(x, (y - 1) & m));
+      d[x] += s * (gx[(x - 1) & m] - gx[(x + 1) & m] + gyd[x] - gyu[x]);
   });
 }
 
@@ -63,9 +66,31 @@ struct Blend {
       default: fa = -1, fb = 1; return b - a;
     }
   }
+  /// Calls fn(std::integral_constant<int, mode>) so the per-pixel mode switch folds away.
+  template <class Fn>
+  static void withMode(int mode, Fn&& fn) {
+    switch (mode) {
+      case 0: fn(std::integral_constant<int, 0>{}); break;
+      case 1: fn(std::integral_constant<int, 1>{}); break;
+      case 2: fn(std::integral_constant<int, 2>{}); break;
+      case 3: fn(std::integral_constant<int, 3>{}); break;
+      case 4: fn(std::integral_constant<int, 4>{}); break;
+      case 5: fn(std::integral_constant<int, 5>{}); break;
+      case 6: fn(std::integral_constant<int, 6>{}); break;
+      default: fn(std::integral_constant<int, 7>{}); break;
+    }
+  }
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    const int n = c.n, ch = c.out[0]->c, mode = c.I(kMode);
+    withMode(c.I(kMode), [&](auto M) { forwardM<T, decltype(M)::value>(c); });
+  }
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    withMode(c.I(kMode), [&](auto M) { backwardM<T, decltype(M)::value>(c); });
+  }
+  template <class T, int mode>
+  static void forwardM(NodeCtx<T>& c) {
+    const int n = c.n, ch = c.out[0]->c;
     const T op = c.P(kOpacity);
     forRows(n, [&](int y) {
       const T* a = c.in[0]->row(y);
@@ -82,9 +107,9 @@ struct Blend {
       }
     });
   }
-  template <class T>
-  static void backward(NodeCtx<T>& c) {
-    const int n = c.n, ch = c.out[0]->c, mode = c.I(kMode);
+  template <class T, int mode>
+  static void backwardM(NodeCtx<T>& c) {
+    const int n = c.n, ch = c.out[0]->c;
     const T op = c.P(kOpacity);
     T dop = 0;
     for (int y = 0; y < n; ++y) {
@@ -142,9 +167,13 @@ struct Levels {
     forRows(c.n, [&](int y) {
       const T* a = c.in[0]->row(y);
       T* o = c.out[0]->row(y);
-      for (int i = 0; i < len; ++i) {
-        const T t = std::max(clamp01((a[i] - il) / d), T(1e-4));
-        o[i] = ol + (oh - ol) * (ig == T(1) ? t : std::pow(t, ig));
+      if (ig == T(1)) {
+        for (int i = 0; i < len; ++i) o[i] = ol + (oh - ol) * std::max(clamp01((a[i] - il) / d), T(1e-4));
+      } else {
+        for (int i = 0; i < len; ++i) {
+          const T t = std::max(clamp01((a[i] - il) / d), T(1e-4));
+          o[i] = ol + (oh - ol) * std::pow(t, ig);
+        }
       }
     });
   }
@@ -153,6 +182,7 @@ struct Levels {
     const T il = c.P(kInLow), ih = c.P(kInHigh), d = den(c), gm = c.P(kGamma), ig = T(1) / gm,
             ol = c.P(kOutLow), oh = c.P(kOutHigh);
     const bool guarded = std::abs(ih - il) < T(1e-4);
+    const bool unit = ig == T(1), wantGamma = c.wantP(kGamma);  // no pow / log unless needed
     const int len = c.n * c.out[0]->c;
     T dil = 0, dih = 0, dgm = 0, dol = 0, doh = 0;
     for (int y = 0; y < c.n; ++y) {
@@ -162,11 +192,11 @@ struct Levels {
       for (int i = 0; i < len; ++i) {
         const T t = (a[i] - il) / d;
         const T te = std::max(clamp01(t), T(1e-4));
-        const T p = std::pow(te, ig);
+        const T p = unit ? te : std::pow(te, ig);
         dol += g[i] * (1 - p);
         doh += g[i] * p;
         const T gp = g[i] * (oh - ol);
-        dgm += gp * p * std::log(te) * (-ig * ig);
+        if (wantGamma) dgm += gp * p * std::log(te) * (-ig * ig);
         if (t > T(1e-4) && t < 1) {
           const T gt = gp * ig * p / te;
           if (da) da[i] += gt / d;
@@ -687,38 +717,51 @@ struct Normal {
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    const T k = c.P(kIntensity);
-    forRows(c.n, [&](int y) {
-      for (int x = 0; x < c.n; ++x) {
-        T gx, gy;
-        centralDiff(*c.in[0], x, y, gx, gy);
-        const T a = -k * gx, b = -k * gy, l = std::sqrt(a * a + b * b + 1);
-        T* o = c.out[0]->ptr(x, y);
-        o[0] = a / l, o[1] = b / l, o[2] = 1 / l;
+    const int n = c.n, m = n - 1;
+    const T k = c.P(kIntensity), hn = T(0.5) * T(n);
+    forRows(n, [&](int y) {
+      const T* r = c.in[0]->row(y);
+      const T* up = c.in[0]->row((y - 1) & m);
+      const T* dn = c.in[0]->row((y + 1) & m);
+      T* o = c.out[0]->row(y);
+      for (int x = 0; x < n; ++x) {
+        const T gx = (r[(x + 1) & m] - r[(x - 1) & m]) * hn, gy = (up[x] - dn[x]) * hn;
+        const T a = -k * gx, b = -k * gy, il = T(1) / std::sqrt(a * a + b * b + 1);
+        o[3 * x] = a * il, o[3 * x + 1] = b * il, o[3 * x + 2] = il;
       }
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n;
-    const T k = c.P(kIntensity);
-    Plane<T> Gx, Gy;
+    const int n = c.n, m = n - 1;
+    const T k = c.P(kIntensity), hn = T(0.5) * T(n);
+    // d loss / d height = adjoint of the central differences of (Gx, Gy); two rows of each kept
+    auto& S = *c.scratch;
+    S.resize(2);
+    Plane<T>& Gx = S[0];
+    Plane<T>& Gy = S[1];
     Gx.create(n, 1);
     Gy.create(n, 1);
     T dk = 0;
-    for (int y = 0; y < n; ++y)
+    for (int y = 0; y < n; ++y) {
+      const T* r = c.in[0]->row(y);
+      const T* up = c.in[0]->row((y - 1) & m);
+      const T* dn = c.in[0]->row((y + 1) & m);
+      const T* g = c.dOut[0]->row(y);
+      T* gxr = Gx.row(y);
+      T* gyr = Gy.row(y);
       for (int x = 0; x < n; ++x) {
-        T gx, gy;
-        centralDiff(*c.in[0], x, y, gx, gy);
-        const T a = -k * gx, b = -k * gy, l = std::sqrt(a * a + b * b + 1);
-        const T nn[3] = {a / l, b / l, 1 / l};
-        const T* g = c.dOut[0]->ptr(x, y);
-        const T dot = g[0] * nn[0] + g[1] * nn[1] + g[2] * nn[2];
-        const T da = (g[0] - nn[0] * dot) / l, db = (g[1] - nn[1] * dot) / l;
+        const T gx = (r[(x + 1) & m] - r[(x - 1) & m]) * hn, gy = (up[x] - dn[x]) * hn;
+        const T a = -k * gx, b = -k * gy, il = T(1) / std::sqrt(a * a + b * b + 1);
+        const T nn[3] = {a * il, b * il, il};
+        const T* gg = g + 3 * x;
+        const T dot = gg[0] * nn[0] + gg[1] * nn[1] + gg[2] * nn[2];
+        const T da = (gg[0] - nn[0] * dot) * il, db = (gg[1] - nn[1] * dot) * il;
         dk += -da * gx - db * gy;
-        Gx.at(x, y) = -k * da;
-        Gy.at(x, y) = -k * db;
+        gxr[x] = -k * da;
+        gyr[x] = -k * db;
       }
+    }
     if (c.dIn[0]) centralDiffAdjoint(Gx, Gy, *c.dIn[0]);
     c.dP(kIntensity) += dk;
   }

@@ -72,42 +72,81 @@ constexpr float kGradDirs[16][2] = {
     {-1.f, 0.f},         {-0.92388f, -0.38268f}, {-0.70711f, -0.70711f}, {-0.38268f, -0.92388f},
     {0.f, -1.f},         {0.38268f, -0.92388f}, {0.70711f, -0.70711f},  {0.92388f, -0.38268f}};
 
-/// One row of periodic Perlin noise: periods px, py (cells per unit), writes n values to dst.
+/// Periodic Perlin noise of one octave evaluated row by row. The per-column quantities (lattice
+/// cell, fraction, quintic weight) are computed once per octave, the lattice gradients once per
+/// lattice row (reused while consecutive pixel rows stay in the same cell row).
 template <class T>
-void perlinRow(T* dst, int n, int y, int px, int py, uint32_t seed) {
-  const T v = vCoord<T>(y, n) * T(py);
-  const T fy0 = std::floor(v);
-  const T fy = v - fy0;
-  const int iy0 = wrapi(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
-  const T sy = fy * fy * fy * (fy * (fy * T(6) - T(15)) + T(10));
-  int lastCell = -1;
-  T g00x = 0, g00y = 0, g10x = 0, g10y = 0, g01x = 0, g01y = 0, g11x = 0, g11y = 0;
-  const T scale = T(px) / T(n);
-  for (int x = 0; x < n; ++x) {
-    const T u = (T(x) + T(0.5)) * scale;
-    const T fx0 = std::floor(u);
-    const T fx = u - fx0;
-    const int cell = static_cast<int>(fx0);
-    if (cell != lastCell) {
-      lastCell = cell;
-      const int ix0 = wrapi(cell, px), ix1 = (ix0 + 1) % px;
-      auto dir = [&](int ix, int iy, T& gx, T& gy) {
-        const uint32_t h = hash3(uint32_t(ix), uint32_t(iy), seed) & 15u;
-        gx = kGradDirs[h][0];
-        gy = kGradDirs[h][1];
-      };
-      dir(ix0, iy0, g00x, g00y);
-      dir(ix1, iy0, g10x, g10y);
-      dir(ix0, iy1, g01x, g01y);
-      dir(ix1, iy1, g11x, g11y);
+struct PerlinOctave {
+  int n = 0, px = 1, py = 1;
+  uint32_t seed = 0;
+  std::vector<int> ix0, ix1;  // per column: wrapped lattice columns
+  std::vector<T> fx, sx;      // per column: fraction in the cell, quintic weight
+  bool rowTable = false;      // gradients per lattice column (px small) or per pixel column
+  void init(int n_, int px_, int py_, uint32_t seed_) {
+    n = n_, px = px_, py = py_, seed = seed_;
+    ix0.resize(n), ix1.resize(n), fx.resize(n), sx.resize(n);
+    const T scale = T(px) / T(n);
+    for (int x = 0; x < n; ++x) {
+      const T u = (T(x) + T(0.5)) * scale;
+      const T f0 = std::floor(u);
+      const T f = u - f0;
+      ix0[x] = wrapi(static_cast<int>(f0), px);
+      ix1[x] = (ix0[x] + 1) % px;
+      fx[x] = f;
+      sx[x] = f * f * f * (f * (f * T(6) - T(15)) + T(10));
     }
-    const T sx = fx * fx * fx * (fx * (fx * T(6) - T(15)) + T(10));
-    const T d00 = g00x * fx + g00y * fy, d10 = g10x * (fx - 1) + g10y * fy;
-    const T d01 = g01x * fx + g01y * (fy - 1), d11 = g11x * (fx - 1) + g11y * (fy - 1);
-    const T a = d00 + sx * (d10 - d00), b = d01 + sx * (d11 - d01);
-    dst[x] = a + sy * (b - a);
+    rowTable = px <= 2 * n;
   }
-}
+  /// Per-thread cache of the gradients of the two lattice rows around the current pixel row.
+  struct Rows {
+    int iy0 = -1;
+    std::vector<T> g0x, g0y, g1x, g1y;
+  };
+  void gradRow(int iy, std::vector<T>& gxv, std::vector<T>& gyv) const {
+    if (rowTable) {
+      gxv.resize(px), gyv.resize(px);
+      for (int i = 0; i < px; ++i) {
+        const uint32_t h = hash3(uint32_t(i), uint32_t(iy), seed) & 15u;
+        gxv[i] = kGradDirs[h][0];
+        gyv[i] = kGradDirs[h][1];
+      }
+    } else {  // more cells than pixels: only the cells the pixels touch, [2x] = ix0, [2x+1] = ix1
+      gxv.resize(2 * n), gyv.resize(2 * n);
+      for (int x = 0; x < n; ++x)
+        for (int e = 0; e < 2; ++e) {
+          const uint32_t h = hash3(uint32_t(e ? ix1[x] : ix0[x]), uint32_t(iy), seed) & 15u;
+          gxv[2 * x + e] = kGradDirs[h][0];
+          gyv[2 * x + e] = kGradDirs[h][1];
+        }
+    }
+  }
+  /// Writes the noise of pixel row y to dst (n values).
+  void row(T* dst, int y, Rows& r) const {
+    const T v = vCoord<T>(y, n) * T(py);
+    const T fy0 = std::floor(v);
+    const T fy = v - fy0;
+    const int iy0 = wrapi(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
+    const T sy = fy * fy * fy * (fy * (fy * T(6) - T(15)) + T(10));
+    if (r.iy0 != iy0) {
+      r.iy0 = iy0;
+      gradRow(iy0, r.g0x, r.g0y);
+      gradRow(iy1, r.g1x, r.g1y);
+    }
+    const T fy1 = fy - 1;
+    const T *g0x = r.g0x.data(), *g0y = r.g0y.data(), *g1x = r.g1x.data(), *g1y = r.g1y.data();
+    const int* i0 = ix0.data();
+    const int* i1 = ix1.data();
+    const bool tab = rowTable;
+    for (int x = 0; x < n; ++x) {
+      const int a = tab ? i0[x] : 2 * x, b = tab ? i1[x] : 2 * x + 1;
+      const T f = fx[x], f1 = f - 1, s = sx[x];
+      const T d00 = g0x[a] * f + g0y[a] * fy, d10 = g0x[b] * f1 + g0y[b] * fy;
+      const T d01 = g1x[a] * f + g1y[a] * fy1, d11 = g1x[b] * f1 + g1y[b] * fy1;
+      const T aa = d00 + s * (d10 - d00), bb = d01 + s * (d11 - d01);
+      dst[x] = aa + sy * (bb - aa);
+    }
+  }
+};
 
 struct Fbm {
   enum { kScaleX, kScaleY, kOctaves, kRoughness, kSeed };
@@ -123,63 +162,75 @@ struct Fbm {
              pCont("roughness", 0, 1, 0.5f, "amplitude ratio between octaves"), pSeed()}};
   }
   static constexpr double kGain = 0.9;
+  /// amp_k = r^k, damp_k = d amp_k / dr = k r^(k-1), q = sqrt(sum amp^2), dq = dq/dr.
+  template <class T>
+  static void amplitudes(T r, int K, std::vector<T>& amp, std::vector<T>& damp, T& q, T& dq) {
+    amp.assign(K, T(0));
+    damp.assign(K, T(0));
+    T q2 = 0, dq2 = 0;
+    for (int k = 0; k < K; ++k) {
+      amp[k] = k == 0 ? T(1) : amp[k - 1] * r;
+      damp[k] = k == 0 ? T(0) : k == 1 ? T(1) : T(k) * amp[k - 1];
+      q2 += amp[k] * amp[k];
+      dq2 += T(2) * amp[k] * damp[k];
+    }
+    q = std::sqrt(std::max(q2, T(1e-12)));
+    dq = dq2 / (T(2) * q);
+  }
+  // scratch: [0] = sum_k amp_k noise_k, [1] = sum_k damp_k noise_k (what backward needs)
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, K = c.I(kOctaves);
-    const T r = c.P(kRoughness);
+    std::vector<T> amp, damp;
+    T q, dq;
+    amplitudes(c.P(kRoughness), K, amp, damp, q, dq);
     auto& S = *c.scratch;
-    S.resize(K);
-    T q2 = 0;
-    std::vector<T> amp(K);
-    for (int k = 0; k < K; ++k) {
-      amp[k] = std::pow(r, T(k));
-      q2 += amp[k] * amp[k];
-      S[k].create(n, 1);
-    }
-    const T q = std::sqrt(std::max(q2, T(1e-12)));
+    S.resize(2);
+    S[0].create(n, 1);
+    S[1].create(n, 1);
     const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      for (int k = 0; k < K; ++k) {
-        perlinRow(S[k].row(y), n, y, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
-      }
-      for (int x = 0; x < n; ++x) {
-        T s = 0;
-        for (int k = 0; k < K; ++k) s += amp[k] * S[k].row(y)[x];
-        o[x] = T(0.5) + T(kGain) * s / q;
+    std::vector<PerlinOctave<T>> oct(K);
+    for (int k = 0; k < K; ++k) oct[k].init(n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
+    const T gq = T(kGain) / q;
+    forRowRanges(n, [&](int y0, int y1) {
+      std::vector<typename PerlinOctave<T>::Rows> rows(K);
+      std::vector<T> v(n);
+      for (int y = y0; y < y1; ++y) {
+        T* s = S[0].row(y);
+        T* ds = S[1].row(y);
+        std::fill(s, s + n, T(0));
+        std::fill(ds, ds + n, T(0));
+        for (int k = 0; k < K; ++k) {
+          oct[k].row(v.data(), y, rows[k]);
+          const T a = amp[k], da = damp[k];
+          for (int x = 0; x < n; ++x) {
+            s[x] += a * v[x];
+            ds[x] += da * v[x];
+          }
+        }
+        T* o = c.out[0]->row(y);
+        for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
       }
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
     const int n = c.n, K = c.I(kOctaves);
-    if (K < 2) return;
-    const T r = c.P(kRoughness);
-    std::vector<T> amp(K), damp(K);
-    T q2 = 0, dq2 = 0;
-    for (int k = 0; k < K; ++k) {
-      amp[k] = std::pow(r, T(k));
-      damp[k] = k == 0 ? T(0) : T(k) * std::pow(r, T(k - 1));
-      q2 += amp[k] * amp[k];
-      dq2 += T(2) * amp[k] * damp[k];
-    }
-    const T q = std::sqrt(std::max(q2, T(1e-12)));
-    const T dq = dq2 / (T(2) * q);
+    if (K < 2 || !c.wantP(kRoughness)) return;
+    std::vector<T> amp, damp;
+    T q, dq;
+    amplitudes(c.P(kRoughness), K, amp, damp, q, dq);
     const auto& S = *c.scratch;
     T acc = 0;
     for (int y = 0; y < n; ++y) {
       const T* g = c.dOut[0]->row(y);
-      for (int x = 0; x < n; ++x) {
-        T s = 0, ds = 0;
-        for (int k = 0; k < K; ++k) {
-          const T v = S[k].row(y)[x];
-          s += amp[k] * v;
-          ds += damp[k] * v;
-        }
-        acc += g[x] * (ds * q - s * dq) / q2;
-      }
+      const T* s = S[0].row(y);
+      const T* ds = S[1].row(y);
+      T racc = 0;
+      for (int x = 0; x < n; ++x) racc += g[x] * (ds[x] * q - s[x] * dq);
+      acc += racc;
     }
-    c.dP(kRoughness) += T(kGain) * acc;
+    c.dP(kRoughness) += T(kGain) * acc / (q * q);
   }
 };
 
