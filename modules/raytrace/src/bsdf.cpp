@@ -49,11 +49,26 @@ Vec3f sampleGgxVisibleNormal(const Vec3f& wo, float alpha, float u1, float u2) {
   return ne.normalized();
 }
 
-MicrofacetBsdf::MicrofacetBsdf(const Vec3f& diffuse, const Vec3f& f0, float roughness)
+MicrofacetBsdf::MicrofacetBsdf(const Vec3f& diffuse, const Vec3f& f0, float roughness, bool burleyDiffuse)
     : diffuse_(diffuse.cwiseMax(0.0f).cwiseMin(1.0f)),
       f0_(f0.cwiseMax(0.0f).cwiseMin(1.0f)),
-      alpha_(ggxAlpha(roughness)) {
+      alpha_(ggxAlpha(roughness)),
+      roughness_(clampv(std::isfinite(roughness) ? roughness : 1.0f, 0.0f, 1.0f)),
+      burley_(burleyDiffuse) {
   noSpecular_ = f0_.maxCoeff() <= 0.0f;
+}
+
+Vec3f MicrofacetBsdf::evalDiffuse(const Vec3f& wo, const Vec3f& wi) const {
+  if (!burley_) return diffuse_ * kInvPi;
+  Vec3f h = wo + wi;
+  const float hl = h.norm();
+  const float cd = hl > 1e-8f ? wi.dot(h / hl) : 0.0f;
+  const float fd90 = 0.5f + 2.0f * roughness_ * cd * cd;
+  auto w = [](float c) {
+    const float m = clampv(1.0f - c, 0.0f, 1.0f);
+    return m * m * m * m * m;
+  };
+  return diffuse_ * (kInvPi * (1 + (fd90 - 1) * w(wi.z())) * (1 + (fd90 - 1) * w(wo.z())));
 }
 
 float MicrofacetBsdf::specularProbability(const Vec3f& wo) const {
@@ -78,7 +93,7 @@ Vec3f MicrofacetBsdf::evalSpecular(const Vec3f& wo, const Vec3f& wi) const {
 
 Vec3f MicrofacetBsdf::eval(const Vec3f& wo, const Vec3f& wi) const {
   if (wo.z() <= 0 || wi.z() <= 0) return Vec3f::Zero();
-  return diffuse_ * kInvPi + evalSpecular(wo, wi);
+  return evalDiffuse(wo, wi) + evalSpecular(wo, wi);
 }
 
 float MicrofacetBsdf::pdf(const Vec3f& wo, const Vec3f& wi) const {

@@ -465,7 +465,7 @@ struct Tracer {
       const SurfacePoint sp = pt.surfacePoint(hit);
       const PartMaterial& mat = pt.material(sp.part);
       const MaterialSample ms = mat.evaluate(sp.uv);
-      const MicrofacetBsdf bsdf(ms.diffuseColor(), ms.f0(), ms.roughness);
+      const MicrofacetBsdf bsdf(ms.diffuseColor(), ms.f0(), ms.roughness, opt.principledDiffuse);
       if (bsdf.black()) break;
       const Vec3f wo = -dir;
       Vec3f T, B;

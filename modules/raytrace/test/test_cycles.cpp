@@ -7,7 +7,8 @@
 // 4x4-pixel box-filtered images (80x60 blocks); per-part means are taken over the part's pixels
 // of our own G-buffer (eroded by one pixel so boundary pixels mixing two parts do not count).
 // Environment variables (for local runs): PS_RT_CYCLES_DIV=1 renders 640x480 (default 4: 160x120),
-// PS_RT_CYCLES_SPP overrides the spp, PS_RT_WRITE_DIR writes the renders and comparisons.
+// PS_RT_CYCLES_SPP overrides the spp, PS_RT_WRITE_DIR writes the renders and comparisons,
+// PS_RT_PRINCIPLED_DIFFUSE=1 uses Burley diffuse (Blender's Principled v1) to measure that gap.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -101,6 +102,7 @@ struct CyclesCase {
   const char* twin;
   const char* reference;
   int spp;
+  bool principledDiffuse = false;
 };
 
 Comparison runCase(const CyclesCase& cc, cv::Mat* oursOut = nullptr) {
@@ -111,6 +113,7 @@ Comparison runCase(const CyclesCase& cc, cv::Mat* oursOut = nullptr) {
   RenderOptions opt;
   opt.spp = envInt("PS_RT_CYCLES_SPP", cc.spp);
   opt.seed = 1;
+  opt.principledDiffuse = cc.principledDiffuse || envInt("PS_RT_PRINCIPLED_DIFFUSE", 0) != 0;
   RenderStats stats;
   const cv::Mat ours = renderTwinView(tracer, cam, opt, twin.exposure[0], &stats);
   EXPECT_TRUE(allFinite(ours));
@@ -141,6 +144,17 @@ TEST(Raytrace_Cycles, full_twin_matches_cycles) {
   const Comparison c = runCase({"twin", "view0.exr", 256});
   EXPECT_LT(c.imageRelL1, 0.05);
   EXPECT_NEAR(c.imageMeanRatio, 1.0, 0.05);
+}
+
+// What remains between the contract's model and Cycles' Principled BSDF is mostly its Burley
+// (Disney) diffuse: with it (a measurement switch, not the contract's model) the ceiling's 20%
+// and the wood's 7-10% gaps close to the level of the Lambert twin.
+TEST(Raytrace_Cycles, full_twin_gap_is_principled_diffuse) {
+  if (!fs::exists(caseDir() / "gt" / "twin" / "scene.json")) GTEST_SKIP() << "blender-room case absent";
+  const Comparison c = runCase({"twin", "view0.exr", 256, true});
+  EXPECT_LT(c.imageRelL1, 0.03);
+  EXPECT_LT(c.worstPartRel, 0.04) << c.worstPart;
+  EXPECT_NEAR(c.imageMeanRatio, 1.0, 0.025);
 }
 
 }  // namespace

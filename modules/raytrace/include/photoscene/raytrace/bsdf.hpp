@@ -49,7 +49,10 @@ class MicrofacetBsdf {
   /// @param diffuse  albedo * (1 - metallic), linear RGB in [0, 1]
   /// @param f0       Fresnel at normal incidence, linear RGB in [0, 1]
   /// @param roughness perceptual roughness in [0, 1] (alpha = roughness^2)
-  MicrofacetBsdf(const Vec3f& diffuse, const Vec3f& f0, float roughness);
+  /// @param burleyDiffuse  replace Lambert by Burley's (Disney) diffuse with this roughness, as
+  ///                       Blender's Principled BSDF v1 does (NOT the contract's model: only for
+  ///                       measuring how much of a difference to Cycles that accounts for)
+  MicrofacetBsdf(const Vec3f& diffuse, const Vec3f& f0, float roughness, bool burleyDiffuse = false);
 
   Vec3f eval(const Vec3f& wo, const Vec3f& wi) const;
   /// The specular term alone (D G F / (4 cos cos)).
@@ -69,8 +72,9 @@ class MicrofacetBsdf {
 
  private:
   Vec3f diffuse_, f0_;
-  float alpha_;
-  bool noSpecular_;
+  float alpha_, roughness_;
+  bool noSpecular_, burley_;
+  Vec3f evalDiffuse(const Vec3f& wo, const Vec3f& wi) const;
 };
 
 }  // namespace ps

@@ -58,6 +58,9 @@ struct RenderOptions {
   PixelFilter filter = PixelFilter::BlackmanHarris;
   float filterWidth = 1.5f;     ///< full width in pixels (Cycles' default 1.5)
   LightSelection lights;
+  /// Burley (Disney) diffuse instead of Lambert, as Blender's Principled BSDF v1: not the
+  /// contract's model; only to measure how much of a difference to Cycles that explains.
+  bool principledDiffuse = false;
   /// Clamp of a single sample's contribution (0 = none; Cycles' 'no clamping' is 0).
   float clampSample = 0.0f;
   bool IsValid(std::string* error) const;
