@@ -131,7 +131,7 @@ BENCHMARK(BM_IncidentLightGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Shading error of representations of the incident light, per roughness: the 8 x 16 grid (as
 // the paper), SH with 3 and 5 bands fitted to the same grid, against a reference made by BSDF
-// importance sampling of path-traced incident radiance (2048 samples per point).
+// importance sampling of path-traced incident radiance (16384 samples per point; the grid gets 64 path samples per bin).
 void BM_IncidentLightRepresentation(benchmark::State& state) {
   Loaded& l = loaded();
   if (!l.twin) return state.SkipWithError("blender-room case absent");
@@ -140,7 +140,7 @@ void BM_IncidentLightRepresentation(benchmark::State& state) {
   const GBuffer gb = renderGBuffer(*l.tracer, cam, {1});
   IncidentLightOptions o;
   o.stride = 20;
-  o.samplesPerBin = 8;
+  o.samplesPerBin = 64;
   double errGrid = 0, errSh3 = 0, errSh5 = 0, refSum = 0;
   for (auto _ : state) {
     const IncidentLightGrid g = computeIncidentLight(*l.tracer, gb, cam, o);
@@ -157,7 +157,7 @@ void BM_IncidentLightRepresentation(benchmark::State& state) {
         if (wo.z() <= 0.05f) continue;
         wo.normalize();
         Vec3f ref = Vec3f::Zero();
-        const int n = 2048;
+        const int n = 16384;
         const Vec3f org = g.position[k] + g.frameN[k] * 1e-4f;
         for (int s = 0; s < n; ++s) {
           BsdfSample bs;
