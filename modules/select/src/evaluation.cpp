@@ -1,0 +1,83 @@
+#include "photoscene/select/evaluation.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "photoscene/core/rng.hpp"
+#include "photoscene/core/timer.hpp"
+
+namespace ps {
+
+std::string SelectionReport::table() const {
+  std::string s;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "held-out selection: top-1 graph %.1f%%, category %.1f%% over %d draws\n",
+                100 * top1Accuracy(), 100 * categoryAccuracy(), total);
+  s += buf;
+  s += "category confusion (rows: truth, columns: chosen)\n";
+  std::vector<std::string> cats;
+  for (const auto& [c, row] : categoryConfusion) cats.push_back(c);
+  std::snprintf(buf, sizeof buf, "%-12s", "");
+  s += buf;
+  for (const auto& c : cats) {
+    std::snprintf(buf, sizeof buf, " %5.5s", c.c_str());
+    s += buf;
+  }
+  s += "\n";
+  for (const auto& c : cats) {
+    std::snprintf(buf, sizeof buf, "%-12s", c.c_str());
+    s += buf;
+    for (const auto& d : cats) {
+      const auto& row = categoryConfusion.at(c);
+      std::snprintf(buf, sizeof buf, " %5d", row.count(d) ? row.at(d) : 0);
+      s += buf;
+    }
+    s += "\n";
+  }
+  s += "graphs right in fewer than half of their draws:";
+  bool any = false;
+  for (const auto& [n, k] : correctPerGraph) {
+    const auto cat = categoryConfusion.size();
+    (void)cat;
+    if (2 * k < total / std::max<size_t>(1, correctPerGraph.size())) {
+      s += " " + n + "(" + std::to_string(k) + ")";
+      any = true;
+    }
+  }
+  if (!any) s += " none";
+  return s + "\n";
+}
+
+SelectionReport evaluateSelection(const ExemplarBank& bank, const GraphLibrary& library,
+                                  const ExemplarBankOptions& bankOptions, const HeldOutOptions& o) {
+  SelectionReport r;
+  const int size = bankOptions.renderSize;
+  const cv::Mat mask(size, size, CV_8UC1, cv::Scalar(255));
+  Rng rng(o.seed);
+  for (const std::string& name : library.names()) {
+    MaterialGraph g = library.create(name);
+    r.correctPerGraph[name] = 0;
+    for (int d = 0; d < o.drawsPerGraph; ++d) {
+      g.setValues(g.randomValues(mix64(o.seed + 7919ULL * r.total), o.spread));
+      const MaterialMaps maps = g.evaluate(bankOptions.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+      const float scale = std::exp(rng.uniform(std::log(o.minUvScale), std::log(o.maxUvScale)));
+      const float rot = rng.uniform(0.f, 360.f);
+      const float level = std::exp(rng.uniform(std::log(o.minLevel), std::log(o.maxLevel)));
+      cv::Vec3f light;
+      for (int c = 0; c < 3; ++c) light[c] = level * rng.uniform(1 - o.colorJitter, 1 + o.colorJitter);
+      const cv::Mat patch = renderCanonicalPatch(maps, size, scale, rot, light);
+      Timer t;
+      const GraphChoice c = bank.select(computeTextureKey(patch, mask, bankOptions.key), o.k);
+      r.querySeconds += t.seconds();
+      ++r.total;
+      const bool ok = c.graph == name;
+      r.top1 += ok;
+      r.correctPerGraph[name] += ok;
+      r.category += c.category == g.category();
+      r.categoryConfusion[g.category()][c.category]++;
+    }
+  }
+  return r;
+}
+
+}  // namespace ps

@@ -1,0 +1,394 @@
+#include "photoscene/select/exemplar_bank.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/math.hpp"
+#include "photoscene/core/parallel.hpp"
+#include "photoscene/core/rng.hpp"
+#include "photoscene/core/timer.hpp"
+#include "photoscene/io/files.hpp"
+
+namespace ps {
+
+namespace {
+constexpr char kMagic[8] = {'P', 'S', 'E', 'X', 'B', 'A', 'N', 'K'};
+constexpr uint32_t kVersion = 2;
+
+uint64_t nameHash(const std::string& s) { return Hasher().add(std::string_view(s)).digest(); }
+
+/// Bilinear, periodic sample of a CV_32FC3 map at texture coordinate t (row 0 = top).
+cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
+  const int n = map.cols, m = map.rows;
+  const float x = tu * n - 0.5f, y = (1.0f - tv) * m - 0.5f;
+  const float fx0 = std::floor(x), fy0 = std::floor(y);
+  const float fx = x - fx0, fy = y - fy0;
+  auto wrap = [](int i, int size) { return ((i % size) + size) % size; };
+  const int x0 = wrap(static_cast<int>(fx0), n), x1 = wrap(static_cast<int>(fx0) + 1, n);
+  const int y0 = wrap(static_cast<int>(fy0), m), y1 = wrap(static_cast<int>(fy0) + 1, m);
+  return (1 - fy) * ((1 - fx) * map.at<cv::Vec3f>(y0, x0) + fx * map.at<cv::Vec3f>(y0, x1)) +
+         fy * ((1 - fx) * map.at<cv::Vec3f>(y1, x0) + fx * map.at<cv::Vec3f>(y1, x1));
+}
+
+/// Box-prefiltered copy of a periodic map so that it has about `texels` texels across.
+cv::Mat prefilter(const cv::Mat& map, int texels) {
+  int size = map.cols;
+  while (size / 2 >= texels && size > 4) size /= 2;
+  if (size == map.cols) return map;
+  cv::Mat out;
+  cv::resize(map, out, cv::Size(size, size), 0, 0, cv::INTER_AREA);  // exact box for powers of 2
+  return out;
+}
+}  // namespace
+
+bool ExemplarBankOptions::IsValid(std::string* error) const {
+  std::string keyError;
+  if (drawsPerGraph < 1 || mapSize < 16 || (mapSize & (mapSize - 1)) || renderSize < 16 || uvScales.empty() ||
+      !(spread >= 0 && spread <= 1) || !key.IsValid(&keyError)) {
+    if (error) *error = "drawsPerGraph >= 1, mapSize a power of two >= 16, renderSize >= 16, uvScales non-empty, spread in [0, 1]" + keyError;
+    return false;
+  }
+  for (float s : uvScales)
+    if (!(s > 0)) {
+      if (error) *error = "uvScales must be positive";
+      return false;
+    }
+  return true;
+}
+
+uint64_t ExemplarBankOptions::hash() const {
+  Hasher h;
+  h.add(drawsPerGraph).add(spread).add(mapSize).add(renderSize).add(seed);
+  for (float s : uvScales) h.add(s);
+  const auto& d = key.descriptor;
+  h.add(d.numScales).add(d.numOrientations).add(d.centerFrequency).add(d.sigma).add(d.kernelRadiusSigmas)
+      .add(d.boundaryPower).add(d.epsilon);
+  h.add(discriminantProjection);
+  h.add(key.colorWeight).add(key.contrastWeight).add(key.anisotropyWeight).add(key.logFloor);
+  return h.digest();
+}
+
+cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, float rotationDeg,
+                             const cv::Vec3f& lightColor) {
+  PS_Check(!maps.albedo.empty() && !maps.normal.empty(), "renderCanonicalPatch needs albedo and normal maps");
+  const int ss = 2 * size;
+  const cv::Mat albedo = prefilter(maps.albedo, static_cast<int>(std::ceil(ss / repeats)));
+  const cv::Mat normal = prefilter(maps.normal, static_cast<int>(std::ceil(ss / repeats)));
+  const float th = radians(rotationDeg), c = std::cos(th), s = std::sin(th);
+  // tangent frame of t on the patch (x right, y up, z towards the viewer): dP/dt_u ~ R(-th) e_x
+  const Vec3f T(c, -s, 0), B(s, c, 0), N(0, 0, 1);
+  const Vec3f light = Vec3f(-0.45f, 0.55f, 0.70f).normalized();
+  cv::Mat big(ss, ss, CV_32FC3);
+  parallelForRanges(0, ss, 16, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y) {
+      cv::Vec3f* out = big.ptr<cv::Vec3f>(static_cast<int>(y));
+      for (int x = 0; x < ss; ++x) {
+        const float u = (x + 0.5f) / ss, v = 1.0f - (y + 0.5f) / ss;
+        const float su = repeats * u, sv = repeats * v;
+        const float tu = c * su - s * sv, tv = s * su + c * sv;
+        const cv::Vec3f a = samplePeriodic(albedo, tu, tv);
+        const cv::Vec3f nt = samplePeriodic(normal, tu, tv);
+        Vec3f n = nt[0] * T + nt[1] * B + nt[2] * N;
+        const float len = n.norm();
+        n = len > 1e-6f ? Vec3f(n / len) : N;
+        const float shade = 0.35f + 0.65f * std::max(0.0f, n.dot(light));
+        out[x] = cv::Vec3f(a[0] * lightColor[0], a[1] * lightColor[1], a[2] * lightColor[2]) * shade;
+      }
+    }
+  });
+  cv::Mat small;
+  cv::resize(big, small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
+  return small;
+}
+
+ExemplarBank::ExemplarBank(ExemplarBank&&) noexcept = default;
+ExemplarBank& ExemplarBank::operator=(ExemplarBank&&) noexcept = default;
+ExemplarBank::~ExemplarBank() = default;
+
+ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBankOptions& options) {
+  std::string why;
+  PS_Check(options.IsValid(&why), why);
+  Timer timer;
+  ExemplarBank bank;
+  bank.graphNames_ = library.names();
+  for (const auto& n : bank.graphNames_) bank.categories_.push_back(library.get(n).category());
+  const int graphs = static_cast<int>(bank.graphNames_.size());
+  const int perGraph = options.drawsPerGraph * static_cast<int>(options.uvScales.size());
+  bank.dim_ = keyLength(options.key);
+  bank.exemplars_.resize(static_cast<size_t>(graphs) * perGraph);
+  bank.keys_.assign(bank.exemplars_.size() * bank.dim_, 0.f);
+  const cv::Mat fullMask(options.renderSize, options.renderSize, CV_8UC1, cv::Scalar(255));
+  parallelFor(0, graphs, [&](int64_t g) {
+    MaterialGraph graph = library.create(bank.graphNames_[g]);
+    for (int d = 0; d < options.drawsPerGraph; ++d) {
+      const uint64_t seed = mix64(options.seed ^ nameHash(bank.graphNames_[g])) + static_cast<uint64_t>(d);
+      graph.setValues(d == 0 ? graph.defaultValues() : graph.randomValues(seed, options.spread));
+      const MaterialMaps maps = graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+      Rng rng(seed, 17);
+      for (size_t si = 0; si < options.uvScales.size(); ++si) {
+        const float rotation = rng.uniform(0.f, 360.f);
+        const cv::Mat patch = renderCanonicalPatch(maps, options.renderSize, options.uvScales[si], rotation);
+        const std::vector<float> key = computeTextureKey(patch, fullMask, options.key);
+        const size_t row = static_cast<size_t>(g) * perGraph + d * options.uvScales.size() + si;
+        bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, options.uvScales[si], rotation};
+        std::copy(key.begin(), key.end(), bank.keys_.begin() + row * bank.dim_);
+      }
+    }
+  });
+  if (options.discriminantProjection) bank.learnProjection();
+  bank.index_ = std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
+  bank.buildSeconds_ = timer.seconds();
+  spdlog::info("exemplar bank: {} graphs x {} draws x {} scales = {} exemplars of {} floats in {:.1f}s", graphs,
+               options.drawsPerGraph, options.uvScales.size(), bank.rows(), bank.dim_, bank.buildSeconds_);
+  return bank;
+}
+
+void ExemplarBank::rebuildIndex(KnnIndexType type) {
+  index_ = std::make_unique<KnnIndex>(keys_, rows(), indexDim(), type);
+}
+
+void ExemplarBank::learnProjection() {
+  // Fisher LDA with graphs as classes: maximise between-graph over within-graph scatter.
+  const int d = dim_, n = rows(), classes = static_cast<int>(graphNames_.size());
+  Eigen::MatrixXd X(n, d);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < d; ++j) X(i, j) = keys_[static_cast<size_t>(i) * d + j];
+  const Eigen::RowVectorXd mean = X.colwise().mean();
+  Eigen::MatrixXd classMean = Eigen::MatrixXd::Zero(classes, d);
+  std::vector<int> count(classes, 0);
+  for (int i = 0; i < n; ++i) {
+    classMean.row(exemplars_[i].graph) += X.row(i);
+    count[exemplars_[i].graph]++;
+  }
+  Eigen::MatrixXd Sb = Eigen::MatrixXd::Zero(d, d), Sw = Eigen::MatrixXd::Zero(d, d);
+  for (int c = 0; c < classes; ++c) {
+    if (!count[c]) continue;
+    classMean.row(c) /= count[c];
+    const Eigen::RowVectorXd dm = classMean.row(c) - mean;
+    Sb += count[c] * dm.transpose() * dm;
+  }
+  for (int i = 0; i < n; ++i) {
+    const Eigen::RowVectorXd dx = X.row(i) - classMean.row(exemplars_[i].graph);
+    Sw += dx.transpose() * dx;
+  }
+  // shrink the within-class scatter towards its mean variance: keeps the metric well posed when a
+  // direction hardly varies inside the bank
+  Sw += (0.05 * Sw.trace() / d) * Eigen::MatrixXd::Identity(d, d);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(Sb, Sw);
+  if (solver.info() != Eigen::Success) {
+    spdlog::warn("exemplar bank: discriminant projection failed; using raw keys");
+    return;
+  }
+  // eigenvectors satisfy W^T Sw W = I; keep them all (largest first), weighted by the square root
+  // of their discriminant ratio so that directions that separate graphs count more
+  const int k = d;
+  projectedDim_ = k;
+  projection_.assign(static_cast<size_t>(d) * k, 0.f);
+  const double scaleRef = std::sqrt(static_cast<double>(n));
+  for (int c = 0; c < k; ++c) {
+    const int src = d - 1 - c;
+    const double w = std::sqrt(std::max(0.0, solver.eigenvalues()[src])) * scaleRef;
+    for (int r = 0; r < d; ++r) projection_[static_cast<size_t>(r) * k + c] = static_cast<float>(solver.eigenvectors()(r, src) * w);
+  }
+  std::vector<float> projected(static_cast<size_t>(n) * k);
+  for (int i = 0; i < n; ++i) {
+    const std::vector<float> raw(keys_.begin() + static_cast<size_t>(i) * d, keys_.begin() + static_cast<size_t>(i + 1) * d);
+    const std::vector<float> p = project(raw);
+    std::copy(p.begin(), p.end(), projected.begin() + static_cast<size_t>(i) * k);
+  }
+  keys_ = std::move(projected);
+}
+
+std::vector<float> ExemplarBank::project(const std::vector<float>& key) const {
+  PS_CheckEQ(static_cast<int>(key.size()), dim_, "key length");
+  if (projection_.empty()) return key;
+  std::vector<float> out(projectedDim_, 0.f);
+  for (int r = 0; r < dim_; ++r)
+    for (int c = 0; c < projectedDim_; ++c) out[c] += key[r] * projection_[static_cast<size_t>(r) * projectedDim_ + c];
+  return out;
+}
+
+std::string ExemplarBank::cacheFileName(const GraphLibrary& library, const ExemplarBankOptions& options) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "exemplars-v%u-%016llx-%016llx.bin", kVersion,
+                static_cast<unsigned long long>(library.contentHash()), static_cast<unsigned long long>(options.hash()));
+  return buf;
+}
+
+namespace {
+template <typename T>
+void put(std::ostream& os, const T& v) {
+  os.write(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+template <typename T>
+bool get(std::istream& is, T& v) {
+  return static_cast<bool>(is.read(reinterpret_cast<char*>(&v), sizeof(T)));
+}
+void putString(std::ostream& os, const std::string& s) {
+  put(os, static_cast<uint32_t>(s.size()));
+  os.write(s.data(), static_cast<std::streamsize>(s.size()));
+}
+bool getString(std::istream& is, std::string& s) {
+  uint32_t n = 0;
+  if (!get(is, n) || n > (1u << 16)) return false;
+  s.resize(n);
+  return static_cast<bool>(is.read(s.data(), n));
+}
+}  // namespace
+
+void ExemplarBank::save(const std::filesystem::path& file) const {
+  // the header carries what load() checks; written whole-or-nothing
+  io::writeAtomically(file, [&](const std::filesystem::path& tmp) {
+    std::ofstream os(tmp, std::ios::binary);
+    os.write(kMagic, 8);
+    put(os, kVersion);
+    put(os, libraryHash_);
+    put(os, optionsHash_);
+    put(os, static_cast<uint32_t>(graphNames_.size()));
+    for (size_t i = 0; i < graphNames_.size(); ++i) {
+      putString(os, graphNames_[i]);
+      putString(os, categories_[i]);
+    }
+    put(os, static_cast<uint32_t>(rows()));
+    put(os, static_cast<uint32_t>(dim_));
+    for (const Exemplar& e : exemplars_) {
+      put(os, e.graph);
+      put(os, e.draw);
+      put(os, e.uvScale);
+      put(os, e.rotationDeg);
+    }
+    put(os, static_cast<uint32_t>(indexDim()));
+    os.write(reinterpret_cast<const char*>(keys_.data()), static_cast<std::streamsize>(keys_.size() * sizeof(float)));
+    put(os, static_cast<uint32_t>(projectedDim_));
+    os.write(reinterpret_cast<const char*>(projection_.data()), static_cast<std::streamsize>(projection_.size() * sizeof(float)));
+    put(os, buildSeconds_);
+    PS_Check(os.good(), "cannot write the exemplar bank " << file);
+  });
+  io::writeAtomically(std::filesystem::path(file.string() + ".flann"),
+                      [&](const std::filesystem::path& tmp) { index_->save(tmp.string()); });
+}
+
+ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libraryHash,
+                                const ExemplarBankOptions& options) {
+  ExemplarBank bank;
+  std::ifstream is(file, std::ios::binary);
+  if (!is) return bank;
+  char magic[8];
+  uint32_t version = 0, graphs = 0, rows = 0, dim = 0;
+  uint64_t lh = 0, oh = 0;
+  if (!is.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0 || !get(is, version) || version != kVersion ||
+      !get(is, lh) || lh != libraryHash || !get(is, oh) || oh != options.hash() || !get(is, graphs))
+    return bank;
+  std::vector<std::string> names(graphs), cats(graphs);
+  for (uint32_t i = 0; i < graphs; ++i)
+    if (!getString(is, names[i]) || !getString(is, cats[i])) return bank;
+  if (!get(is, rows) || !get(is, dim) || dim != static_cast<uint32_t>(keyLength(options.key)) || rows > (1u << 24))
+    return bank;
+  std::vector<Exemplar> ex(rows);
+  for (auto& e : ex)
+    if (!get(is, e.graph) || !get(is, e.draw) || !get(is, e.uvScale) || !get(is, e.rotationDeg) || e.graph < 0 ||
+        e.graph >= static_cast<int>(graphs))
+      return bank;
+  uint32_t indexDim = 0, projectedDim = 0;
+  if (!get(is, indexDim) || indexDim == 0 || indexDim > 4096) return bank;
+  std::vector<float> keys(static_cast<size_t>(rows) * indexDim);
+  if (!is.read(reinterpret_cast<char*>(keys.data()), static_cast<std::streamsize>(keys.size() * sizeof(float))))
+    return bank;
+  if (!get(is, projectedDim) || projectedDim > 4096) return bank;
+  std::vector<float> projection(static_cast<size_t>(dim) * projectedDim);
+  if (!is.read(reinterpret_cast<char*>(projection.data()), static_cast<std::streamsize>(projection.size() * sizeof(float))))
+    return bank;
+  if ((projectedDim ? projectedDim : dim) != indexDim) return bank;
+  double seconds = 0;
+  get(is, seconds);
+  bank.graphNames_ = std::move(names);
+  bank.categories_ = std::move(cats);
+  bank.exemplars_ = std::move(ex);
+  bank.keys_ = std::move(keys);
+  bank.dim_ = static_cast<int>(dim);
+  bank.projection_ = std::move(projection);
+  bank.projectedDim_ = static_cast<int>(projectedDim);
+  bank.buildSeconds_ = seconds;
+  bank.libraryHash_ = libraryHash;
+  bank.optionsHash_ = options.hash();
+  const std::filesystem::path indexFile(file.string() + ".flann");
+  std::error_code ec;
+  if (std::filesystem::exists(indexFile, ec)) {
+    try {
+      bank.index_ = std::make_unique<KnnIndex>(
+          KnnIndex::load(indexFile.string(), bank.keys_, bank.rows(), bank.indexDim(), options.indexType));
+    } catch (const std::exception& e) {
+      spdlog::warn("exemplar bank index {} unreadable ({}); rebuilding it", indexFile.string(), e.what());
+    }
+  }
+  if (!bank.index_) bank.index_ = std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
+  return bank;
+}
+
+ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library, const ExemplarBankOptions& options,
+                                       const std::filesystem::path& cacheFolder, bool* loadedFromCache) {
+  const std::filesystem::path file = cacheFolder / cacheFileName(library, options);
+  Timer timer;
+  ExemplarBank bank = load(file, library.contentHash(), options);
+  if (bank.rows() > 0) {
+    if (loadedFromCache) *loadedFromCache = true;
+    spdlog::info("exemplar bank: loaded {} exemplars from {} in {:.1f} ms", bank.rows(), file.string(),
+                 timer.milliseconds());
+    return bank;
+  }
+  if (loadedFromCache) *loadedFromCache = false;
+  bank = build(library, options);
+  bank.libraryHash_ = library.contentHash();
+  bank.optionsHash_ = options.hash();
+  std::filesystem::create_directories(cacheFolder);
+  bank.save(file);
+  return bank;
+}
+
+GraphChoice ExemplarBank::select(const std::vector<float>& key, int k) const {
+  GraphChoice choice;
+  const KnnResult r = index_->search(project(key), k);
+  std::map<int, GraphVote> votes;
+  std::map<std::string, GraphVote> catVotes;
+  for (size_t i = 0; i < r.index.size(); ++i) {
+    const Exemplar& e = exemplars_[r.index[i]];
+    const double w = 1.0 / (r.distance[i] + 1e-6);
+    GraphVote& v = votes[e.graph];
+    v.graph = graphNames_[e.graph];
+    v.category = categories_[e.graph];
+    v.weight += w;
+    v.count++;
+    GraphVote& c = catVotes[categories_[e.graph]];
+    c.category = categories_[e.graph];
+    c.weight += w;
+    c.count++;
+  }
+  for (auto& [g, v] : votes) choice.votes.push_back(v);
+  for (auto& [g, v] : catVotes) choice.categoryVotes.push_back(v);
+  auto byWeight = [](const GraphVote& a, const GraphVote& b) {
+    return a.weight != b.weight ? a.weight > b.weight : a.graph < b.graph;
+  };
+  std::sort(choice.votes.begin(), choice.votes.end(), byWeight);
+  std::sort(choice.categoryVotes.begin(), choice.categoryVotes.end(), byWeight);
+  if (!choice.votes.empty()) {
+    choice.graph = choice.votes[0].graph;
+    choice.category = choice.votes[0].category;
+  }
+  choice.neighbours = r.index;
+  choice.distances = r.distance;
+  return choice;
+}
+
+int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240) {
+  return static_cast<int>(std::lround(pixelsAt320x240 * (static_cast<double>(imageWidth) * imageHeight) / (320.0 * 240.0)));
+}
+
+}  // namespace ps
