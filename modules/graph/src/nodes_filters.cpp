@@ -445,7 +445,7 @@ struct Blur {
   }
   template <class T>
   static T dotConv(const Plane<T>& g, const Plane<T>& in, const std::vector<T>& k, bool horiz) {
-    Plane<T> tmp;
+    thread_local Plane<T> tmp;  // reused between calls (no allocation per backward)
     conv(in, tmp, k, horiz);
     T s = 0;
     for (size_t i = 0; i < tmp.d.size(); ++i) s += g.d[i] * tmp.d[i];
@@ -460,7 +460,7 @@ struct Blur {
     }
     std::vector<T> k, dk;
     kernel(sp, k, dk);
-    c.scratch->resize(1);
+    if (c.scratch->empty()) c.scratch->resize(1);
     conv(*c.in[0], (*c.scratch)[0], k, true);
     conv((*c.scratch)[0], *c.out[0], k, false);
   }
@@ -474,7 +474,9 @@ struct Blur {
     }
     std::vector<T> k, dk;
     kernel(sp, k, dk);
-    Plane<T> A, B;
+    c.scratch->resize(3);
+    Plane<T>& A = (*c.scratch)[1];
+    Plane<T>& B = (*c.scratch)[2];
     conv(*c.dOut[0], A, k, false);  // Ky^T dOut
     if (c.dIn[0]) {
       conv(A, B, k, true);
@@ -578,7 +580,9 @@ struct Warp {
   static void backward(NodeCtx<T>& c) {
     const int n = c.n, ch = c.out[0]->c;
     const T k = c.P(kIntensity);
-    Plane<T> Gx, Gy;
+    c.scratch->resize(2);
+    Plane<T>& Gx = (*c.scratch)[0];
+    Plane<T>& Gy = (*c.scratch)[1];
     Gx.zeros(n, 1);
     Gy.zeros(n, 1);
     T dk = 0, tmp[3], sgx[3], sgy[3];
@@ -792,7 +796,9 @@ struct EdgeDetect {
   static void backward(NodeCtx<T>& c) {
     const int n = c.n;
     const T s = c.P(kStrength);
-    Plane<T> Gx, Gy;
+    c.scratch->resize(2);
+    Plane<T>& Gx = (*c.scratch)[0];
+    Plane<T>& Gy = (*c.scratch)[1];
     Gx.zeros(n, 1);
     Gy.zeros(n, 1);
     T ds = 0;

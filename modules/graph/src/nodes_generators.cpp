@@ -97,27 +97,36 @@ struct PerlinOctave {
     }
     rowTable = px <= 2 * n;
   }
-  /// Per-thread cache of the gradients of the two lattice rows around the current pixel row.
-  struct Rows {
-    int iy0 = -1;
-    std::vector<T> g0x, g0y, g1x, g1y;
+  /// Per-thread cache: the gradients of the two lattice rows around the current pixel row,
+  /// expanded per pixel column (corner a = ix0, b = ix1) so the row loop reads them contiguously.
+  struct Slot {
+    int iy = -1;
+    std::vector<T> ax, ay, bx, by;
   };
-  void gradRow(int iy, std::vector<T>& gxv, std::vector<T>& gyv) const {
+  struct Rows {
+    Slot s0, s1;  // lattice rows iy0 and iy1
+  };
+  void fill(Slot& sl, int iy) const {
+    sl.iy = iy;
+    sl.ax.resize(n), sl.ay.resize(n), sl.bx.resize(n), sl.by.resize(n);
+    auto grad = [&](int ix, T& gx, T& gy) {
+      const uint32_t h = hash3(uint32_t(ix), uint32_t(iy), seed) & 15u;
+      gx = kGradDirs[h][0];
+      gy = kGradDirs[h][1];
+    };
     if (rowTable) {
+      thread_local std::vector<T> gxv, gyv;
       gxv.resize(px), gyv.resize(px);
-      for (int i = 0; i < px; ++i) {
-        const uint32_t h = hash3(uint32_t(i), uint32_t(iy), seed) & 15u;
-        gxv[i] = kGradDirs[h][0];
-        gyv[i] = kGradDirs[h][1];
+      for (int i = 0; i < px; ++i) grad(i, gxv[i], gyv[i]);
+      for (int x = 0; x < n; ++x) {
+        sl.ax[x] = gxv[ix0[x]], sl.ay[x] = gyv[ix0[x]];
+        sl.bx[x] = gxv[ix1[x]], sl.by[x] = gyv[ix1[x]];
       }
-    } else {  // more cells than pixels: only the cells the pixels touch, [2x] = ix0, [2x+1] = ix1
-      gxv.resize(2 * n), gyv.resize(2 * n);
-      for (int x = 0; x < n; ++x)
-        for (int e = 0; e < 2; ++e) {
-          const uint32_t h = hash3(uint32_t(e ? ix1[x] : ix0[x]), uint32_t(iy), seed) & 15u;
-          gxv[2 * x + e] = kGradDirs[h][0];
-          gyv[2 * x + e] = kGradDirs[h][1];
-        }
+    } else {  // more cells than pixels: only the cells the pixels touch
+      for (int x = 0; x < n; ++x) {
+        grad(ix0[x], sl.ax[x], sl.ay[x]);
+        grad(ix1[x], sl.bx[x], sl.by[x]);
+      }
     }
   }
   /// Writes the noise of pixel row y to dst (n values).
@@ -127,21 +136,19 @@ struct PerlinOctave {
     const T fy = v - fy0;
     const int iy0 = wrapi(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
     const T sy = fy * fy * fy * (fy * (fy * T(6) - T(15)) + T(10));
-    if (r.iy0 != iy0) {
-      r.iy0 = iy0;
-      gradRow(iy0, r.g0x, r.g0y);
-      gradRow(iy1, r.g1x, r.g1y);
+    if (r.s0.iy != iy0 || r.s1.iy != iy1) {
+      if (r.s0.iy == iy1) std::swap(r.s0, r.s1);  // rows walk down: the old iy0 is the new iy1
+      if (r.s0.iy != iy0) fill(r.s0, iy0);
+      if (r.s1.iy != iy1) fill(r.s1, iy1);
     }
     const T fy1 = fy - 1;
-    const T *g0x = r.g0x.data(), *g0y = r.g0y.data(), *g1x = r.g1x.data(), *g1y = r.g1y.data();
-    const int* i0 = ix0.data();
-    const int* i1 = ix1.data();
-    const bool tab = rowTable;
+    const T *ax0 = r.s0.ax.data(), *ay0 = r.s0.ay.data(), *bx0 = r.s0.bx.data(), *by0 = r.s0.by.data();
+    const T *ax1 = r.s1.ax.data(), *ay1 = r.s1.ay.data(), *bx1 = r.s1.bx.data(), *by1 = r.s1.by.data();
+    const T *fxp = fx.data(), *sxp = sx.data();
     for (int x = 0; x < n; ++x) {
-      const int a = tab ? i0[x] : 2 * x, b = tab ? i1[x] : 2 * x + 1;
-      const T f = fx[x], f1 = f - 1, s = sx[x];
-      const T d00 = g0x[a] * f + g0y[a] * fy, d10 = g0x[b] * f1 + g0y[b] * fy;
-      const T d01 = g1x[a] * f + g1y[a] * fy1, d11 = g1x[b] * f1 + g1y[b] * fy1;
+      const T f = fxp[x], f1 = f - 1, s = sxp[x];
+      const T d00 = ax0[x] * f + ay0[x] * fy, d10 = bx0[x] * f1 + by0[x] * fy;
+      const T d01 = ax1[x] * f + ay1[x] * fy1, d11 = bx1[x] * f1 + by1[x] * fy1;
       const T aa = d00 + s * (d10 - d00), bb = d01 + s * (d11 - d01);
       dst[x] = aa + sy * (bb - aa);
     }
@@ -324,16 +331,40 @@ struct Voronoi {
     double d1, d2;
     int c1x, c1y, c2x, c2y;
   };
+  /// The random point offsets of the lattice rows cy-1..cy+1, columns -1..s (3 x (s+2) cells),
+  /// built once per lattice row instead of 9 cells x 2 hashes per pixel.
+  template <class T>
+  struct RowTable {
+    int cy = INT32_MIN, s = 0;
+    std::vector<T> h;  // [(j+1) * (s+2) + qx+1] * 2 + {0, 1}
+    void build(int cy_, int s_, uint32_t seed) {
+      cy = cy_, s = s_;
+      h.resize(size_t(3) * (s + 2) * 2);
+      for (int j = -1; j <= 1; ++j)
+        for (int qx = -1; qx <= s; ++qx) {
+          const int wx = wrapi(qx, s), wy = wrapi(cy + j, s);
+          T* o = &h[(size_t(j + 1) * (s + 2) + qx + 1) * 2];
+          o[0] = hashf(wx, wy, seed), o[1] = hashf(wx, wy, seed + 1);
+        }
+    }
+  };
   template <class T>
   static void search(T px, T py, int s, T jitter, uint32_t seed, T& d1, T& d2, int* b1, int* b2,
-                     T* f1, T* f2, T* h1, T* h2) {
+                     T* f1, T* f2, T* h1, T* h2, const RowTable<T>* tab = nullptr) {
     const int cx = int(std::floor(px)), cy = int(std::floor(py));
+    if (tab && tab->cy != cy) tab = nullptr;
     d1 = d2 = T(1e9);
     for (int j = -1; j <= 1; ++j)
       for (int i = -1; i <= 1; ++i) {
         const int qx = cx + i, qy = cy + j;
         const int wx = wrapi(qx, s), wy = wrapi(qy, s);
-        const T hx = hashf(wx, wy, seed), hy = hashf(wx, wy, seed + 1);
+        T hx, hy;
+        if (tab && qx >= -1 && qx <= s) {
+          const T* t = &tab->h[(size_t(j + 1) * (s + 2) + qx + 1) * 2];
+          hx = t[0], hy = t[1];
+        } else {
+          hx = hashf(wx, wy, seed), hy = hashf(wx, wy, seed + 1);
+        }
         const T fx = T(qx) + T(0.5) + jitter * (hx - T(0.5));
         const T fy = T(qy) + T(0.5) + jitter * (hy - T(0.5));
         const T d = std::sqrt((px - fx) * (px - fx) + (py - fy) * (py - fy));
@@ -359,15 +390,21 @@ struct Voronoi {
     const int n = c.n, s = c.I(kScale), mode = c.I(kMode);
     const T jit = c.P(kJitter);
     const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      const T py = vCoord<T>(y, n) * T(s);
-      for (int x = 0; x < n; ++x) {
-        const T px = uCoord<T>(x, n) * T(s);
-        T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
-        int b1[2] = {0, 0}, b2[2] = {0, 0};
-        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2);
-        o[x] = mode == 0 ? d1 : mode == 1 ? d2 - d1 : T(hashf(b1[0], b1[1], seed + 5));
+    const bool useTab = s <= 2 * n;
+    forRowRanges(n, [&](int ya, int yb) {
+      RowTable<T> tab;
+      for (int y = ya; y < yb; ++y) {
+        T* o = c.out[0]->row(y);
+        const T py = vCoord<T>(y, n) * T(s);
+        const int cy = int(std::floor(py));
+        if (useTab && tab.cy != cy) tab.build(cy, s, seed);
+        for (int x = 0; x < n; ++x) {
+          const T px = uCoord<T>(x, n) * T(s);
+          T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
+          int b1[2] = {0, 0}, b2[2] = {0, 0};
+          search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2, useTab ? &tab : nullptr);
+          o[x] = mode == 0 ? d1 : mode == 1 ? d2 - d1 : T(hashf(b1[0], b1[1], seed + 5));
+        }
       }
     });
   }
@@ -377,15 +414,20 @@ struct Voronoi {
     if (mode == 2) return;
     const T jit = c.P(kJitter);
     const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
+    if (!c.wantP(kJitter)) return;
     T acc = 0;
+    const bool useTab = s <= 2 * n;
+    RowTable<T> tab;
     for (int y = 0; y < n; ++y) {
       const T py = vCoord<T>(y, n) * T(s);
       const T* g = c.dOut[0]->row(y);
+      const int cy = int(std::floor(py));
+      if (useTab && tab.cy != cy) tab.build(cy, s, seed);
       for (int x = 0; x < n; ++x) {
         const T px = uCoord<T>(x, n) * T(s);
         T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
         int b1[2] = {0, 0}, b2[2] = {0, 0};
-        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2);
+        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2, useTab ? &tab : nullptr);
         auto dd = [&](T d, const T* f, const T* h) {
           if (d < T(1e-9)) return T(0);
           return -((px - f[0]) * (h[0] - T(0.5)) + (py - f[1]) * (h[1] - T(0.5))) / d;
@@ -713,8 +755,8 @@ struct Tile {
   };
   template <class T>
   static Geo<T> locate(const NodeCtx<T>& c, int x, int y) {
-    const int layout = c.I(kLayout), C = c.I(kCols);
-    int R = c.I(kRows);
+    const int layout = int(c.P(kLayout) + T(0.5)), C = int(c.P(kCols) + T(0.5));
+    int R = int(c.P(kRows) + T(0.5));
     if (layout == 0 && (R & 1)) ++R;
     const T ro = c.P(kRowOffset);
     Geo<T> g;
@@ -738,12 +780,19 @@ struct Tile {
     const uint32_t seed = uint32_t(c.I(kSeed));
     const T gap = c.P(kGap), bevel = c.P(kBevel), lv = c.P(kLumVar);
     forRows(n, [&](int y) {
+      int lastCol = -1, lastRow = -1, ox = 0, oy = 0;
+      T rnd = 0;
       for (int x = 0; x < n; ++x) {
         const Geo<T> g = locate(c, x, y);
+        if (g.col != lastCol || g.row != lastRow) {  // per-tile randoms, hashed once per tile run
+          lastCol = g.col, lastRow = g.row;
+          rnd = T(0.5) + lv * (T(hashf(g.col, g.row, seed)) - T(0.5));
+          ox = int(hashf(g.col, g.row, seed + 1) * float(n));
+          oy = int(hashf(g.col, g.row, seed + 2) * float(n));
+        }
         c.out[0]->at(x, y) = Bevel<T>(std::min(g.dx, g.dy), gap, bevel).h;
-        c.out[1]->at(x, y) = T(0.5) + lv * (T(hashf(g.col, g.row, seed)) - T(0.5));
-        writeSampled(c, x, y, int(hashf(g.col, g.row, seed + 1) * float(n)),
-                     int(hashf(g.col, g.row, seed + 2) * float(n)), false);
+        c.out[1]->at(x, y) = rnd;
+        writeSampled(c, x, y, ox, oy, false);
       }
     });
   }
@@ -753,20 +802,30 @@ struct Tile {
     const uint32_t seed = uint32_t(c.I(kSeed));
     const T gap = c.P(kGap), bevel = c.P(kBevel);
     T dg = 0, db = 0, dro = 0, dlv = 0;
-    for (int y = 0; y < n; ++y)
+    const bool wantLv = c.wantP(kLumVar), sampled = c.in[0] && c.dIn[0];
+    for (int y = 0; y < n; ++y) {
+      int lastCol = -1, lastRow = -1, ox = 0, oy = 0;
+      T rnd = 0;
       for (int x = 0; x < n; ++x) {
         const Geo<T> g = locate(c, x, y);
-        const T gh = c.dOut[0]->at(x, y), gr = c.dOut[1]->at(x, y);
+        const T gh = c.dOut[0]->at(x, y);
         if (gh != 0) {
           const Bevel<T> b(std::min(g.dx, g.dy), gap, bevel);
           dg += gh * b.dGap;
           db += gh * b.dBevel;
           if (g.dx < g.dy) dro += gh * b.dD * g.sgn * g.aspect * g.dShift;
         }
-        dlv += gr * (T(hashf(g.col, g.row, seed)) - T(0.5));
-        scatterSampled(c, x, y, int(hashf(g.col, g.row, seed + 1) * float(n)),
-                       int(hashf(g.col, g.row, seed + 2) * float(n)), false);
+        if (!wantLv && !sampled) continue;
+        if (g.col != lastCol || g.row != lastRow) {
+          lastCol = g.col, lastRow = g.row;
+          rnd = T(hashf(g.col, g.row, seed)) - T(0.5);
+          ox = int(hashf(g.col, g.row, seed + 1) * float(n));
+          oy = int(hashf(g.col, g.row, seed + 2) * float(n));
+        }
+        dlv += c.dOut[1]->at(x, y) * rnd;
+        if (sampled) scatterSampled(c, x, y, ox, oy, false);
       }
+    }
     c.dP(kGap) += dg;
     c.dP(kBevel) += db;
     c.dP(kRowOffset) += dro;
