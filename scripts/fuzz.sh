@@ -7,20 +7,23 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET=${FUZZ_SECONDS:-60}
 export CC=clang CXX=clang++
-BUILD_DIR=build-fuzz bash scripts/build.sh -DPS_FUZZ=ON -DPS_SANITIZE=ON -DPS_BUILD_PERF=OFF \
+GENERATOR=()
+if command -v ninja >/dev/null 2>&1 && [ ! -f build-fuzz/Makefile ]; then GENERATOR=(-G Ninja); fi
+cmake -S . -B build-fuzz "${GENERATOR[@]}" -DPS_FUZZ=ON -DPS_SANITIZE=ON -DPS_BUILD_PERF=OFF \
   -DPS_BUILD_SAMPLES=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=()
-  for exe in build-fuzz/bin/ps_fuzz_*; do targets+=("${exe##*/ps_fuzz_}"); done
+  targets=(scene_json obj label_image)
+  grep -q "ps_fuzz_graph_json" build-fuzz/build.ninja build-fuzz/Makefile 2>/dev/null && targets+=(graph_json)
 fi
+cmake --build build-fuzz --parallel "$(nproc)" --target "${targets[@]/#/ps_fuzz_}"
 status=0
 for t in "${targets[@]}"; do
   corpus=build-fuzz/corpus/$t
   artifacts=build-fuzz/artifacts/$t
   mkdir -p "$corpus" "$artifacts"
   echo "== $t: ${SECONDS_PER_TARGET}s"
-  if ! ASAN_OPTIONS=detect_leaks=1 ./build-fuzz/bin/ps_fuzz_$t "$corpus" "tests/fuzz/corpus/$t" \
+  if ! ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/fuzz/lsan.supp ./build-fuzz/bin/ps_fuzz_$t "$corpus" "tests/fuzz/corpus/$t" \
        -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb=4096 -timeout=10 \
        -artifact_prefix="$artifacts/" -print_final_stats=1 2>"build-fuzz/$t.log"; then
     status=1

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "photoscene/core/error.hpp"
+#include "photoscene/core/log.hpp"
 #include "photoscene/io.hpp"
 #if PS_HAVE_GRAPH
 #include "photoscene/graph.hpp"
@@ -35,6 +36,11 @@ std::vector<std::string> targets() {
 }
 
 bool run(const std::string& target, const uint8_t* data, size_t size) {
+  static const bool quiet = [] {  // warnings about unknown keys would drown the fuzzer's output
+    initLogging(LogLevel::Error);
+    return true;
+  }();
+  (void)quiet;
   try {
     if (target == "scene_json") {
       io::readSceneJson(scratchFile("scene.json", data, size));
