@@ -2,6 +2,7 @@
 #include "engine.hpp"
 #include "graph_access.hpp"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -131,24 +132,66 @@ std::vector<uint8_t> MaterialGraph::differentiableMask() const {
   return m;
 }
 
+namespace {
+// Oklab (Ottosson 2020) from / to linear sRGB: a perceptual space where lightness, chroma and hue
+// separate, so colour draws can stay near the default's hue.
+void linearToOklab(const float* c, float* lab) {
+  const float l = 0.4122214708f * c[0] + 0.5363325363f * c[1] + 0.0514459929f * c[2];
+  const float m = 0.2119034982f * c[0] + 0.6806995451f * c[1] + 0.1073969566f * c[2];
+  const float s = 0.0883024619f * c[0] + 0.2817188376f * c[1] + 0.6299787005f * c[2];
+  const float l_ = std::cbrt(l), m_ = std::cbrt(m), s_ = std::cbrt(s);
+  lab[0] = 0.2104542553f * l_ + 0.7936177850f * m_ - 0.0040720468f * s_;
+  lab[1] = 1.9779984951f * l_ - 2.4285922050f * m_ + 0.4505937099f * s_;
+  lab[2] = 0.0259040371f * l_ + 0.7827717662f * m_ - 0.8086757660f * s_;
+}
+void oklabToLinear(const float* lab, float* c) {
+  const float l_ = lab[0] + 0.3963377774f * lab[1] + 0.2158037573f * lab[2];
+  const float m_ = lab[0] - 0.1055613458f * lab[1] - 0.0638541728f * lab[2];
+  const float s_ = lab[0] - 0.0894841775f * lab[1] - 1.2914855480f * lab[2];
+  const float l = l_ * l_ * l_, m = m_ * m_ * m_, s = s_ * s_ * s_;
+  c[0] = 4.0767416621f * l - 3.3077115913f * m + 0.2309699292f * s;
+  c[1] = -1.2684380046f * l + 2.6097574011f * m - 0.3413193965f * s;
+  c[2] = -0.0041960863f * l - 0.7034186830f * m + 1.7076147713f * s;
+}
+}  // namespace
+
 std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) const {
   Rng rng(seed, 0x67726170ULL);
   std::vector<float> v = defaultValues();
+  // one hue drift shared by all colours of the draw (the material as a whole turns a little
+  // warmer or cooler), plus a smaller per-colour part
+  Rng rh = rng.split(0x68756531ULL);
+  const float sharedHue = spread * 0.20f * (rh.uniform() * 2.f - 1.f);  // radians in Oklab (a, b)
   for (size_t i = 0; i < parameters().size(); ++i) {
     const auto& p = parameters()[i];
     Rng r = rng.split(i);
+    if (p.name == "albedo_offset") {
+      // mostly a gray shift: a per-channel offset turns dark materials green or pink
+      const float gray = (r.uniform() * 0.12f - 0.06f) * spread;
+      for (int k = 0; k < 3; ++k) v[p.offset + k] = gray + (r.uniform() * 0.02f - 0.01f) * spread;
+      continue;
+    }
+    if (p.kind == ParameterKind::Continuous && p.dim == 3) {
+      // colours: a plausible variation of the default in Oklab: lightness scaled, chroma scaled,
+      // hue turned by a small angle (not a free RGB draw, which gives pastels no real material has)
+      float* x = &v[p.offset];
+      float lab[3];
+      linearToOklab(x, lab);
+      const float lightScale = std::exp(spread * 0.45f * (r.uniform() * 2.f - 1.f));
+      const float chromaScale = std::exp(spread * 0.4f * (r.uniform() * 2.f - 1.f));
+      const float hue = sharedHue + spread * 0.08f * (r.uniform() * 2.f - 1.f);
+      lab[0] = std::min(lab[0] * lightScale, 0.99f);
+      const float ca = lab[1] * chromaScale, cb = lab[2] * chromaScale;
+      lab[1] = ca * std::cos(hue) - cb * std::sin(hue);
+      lab[2] = ca * std::sin(hue) + cb * std::cos(hue);
+      float rgb[3];
+      oklabToLinear(lab, rgb);
+      for (int k = 0; k < 3; ++k) x[k] = std::isfinite(rgb[k]) ? rgb[k] : x[k];
+      continue;
+    }
     for (int k = 0; k < p.dim; ++k) {
       float& x = v[p.offset + k];
-      if (p.name == "albedo_offset") {
-        x = (r.uniform() * 0.2f - 0.1f) * spread;
-      } else if (p.kind == ParameterKind::Continuous && p.dim == 3) {
-        // colors: a plausible variation of the default (brightness and a little hue), not a
-        // uniform RGB draw (which gives pastels no real material has)
-        if (k == 0) r = rng.split(i + 1000);
-        Rng rb = rng.split(i + 2000);
-        const float bright = std::exp(spread * 0.7f * (rb.uniform() - 0.5f) * 2.f);
-        x = x * bright * (1.f + spread * 0.3f * (r.uniform() - 0.5f) * 2.f);
-      } else if (p.kind == ParameterKind::Continuous) {
+      if (p.kind == ParameterKind::Continuous) {
         x = x + spread * (r.uniform(p.min, p.max) - x);
       } else {
         const float u = r.uniform();

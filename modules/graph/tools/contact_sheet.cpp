@@ -2,6 +2,7 @@
 // random parameter draws, each rendered as a lit sphere (Lambert + GGX).
 //
 // usage: ps_graph_contact_sheet OUT.jpg [--library DIR] [--maps N] [--cell N] [--only NAME]
+//        [--png COPY.png]   (also writes a lossless copy, e.g. for viewers without JPEG)
 #include "photoscene/core.hpp"
 #include "photoscene/graph.hpp"
 
@@ -17,7 +18,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s OUT.jpg [--library DIR] [--maps N] [--cell N] [--only NAME]\n", argv[0]);
     return 2;
   }
-  std::string out = argv[1], folder, only;
+  std::string out = argv[1], folder, only, png;
   int mapSize = 256, cell = 150;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
     else if (k == "--maps") mapSize = std::stoi(argv[i + 1]);
     else if (k == "--cell") cell = std::stoi(argv[i + 1]);
     else if (k == "--only") only = argv[i + 1];
+    else if (k == "--png") png = argv[i + 1];
   }
   try {
     const ps::GraphLibrary lib = ps::GraphLibrary::load(folder);
@@ -58,6 +60,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::filesystem::rename(tmp, out);
+    if (!png.empty() && !cv::imwrite(png, sheet)) {
+      std::fprintf(stderr, "cannot write %s\n", png.c_str());
+      return 1;
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -43,9 +43,9 @@ class G:
                 'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
 
 
-def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None):
+def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, normal_max=0.1):
     g.n('nrm', 'normal', {'height': height}, intensity=normal_intensity)
-    g.p('normal_strength', 'nrm.intensity', doc='relief strength', min=0.0, max=0.1)
+    g.p('normal_strength', 'nrm.intensity', doc='relief strength', min=0.0, max=normal_max)
     g.out(albedo=albedo, normal='nrm', roughness=rough, height=height)
     if metallic:
         g.out(metallic=metallic)
@@ -68,14 +68,14 @@ def colors3(g, id, src, c0, c1, c2, pos=0.5, prefix='color'):
 
 
 # ---------------------------------------------------------------- wood
-def wood_grain(g, rings=36, seed=1, warp=0.05, fiber=0.35):
-    """Gray grain along u: soft stripes across v, wavy, with fine fibers."""
+def wood_grain(g, rings=36, seed=1, warp=0.025, fiber=0.35):
+    """Gray grain along u: soft stripes across v, gently wavy (long waves), with fine fibers."""
     g.n('ring', 'stripes', count=rings, direction='v', width=0.35, softness=0.35)
-    g.n('wave', 'fbm', scale_x=1, scale_y=3, octaves=4, roughness=0.55, seed=seed)
+    g.n('wave', 'fbm', scale_x=1, scale_y=2, octaves=3, roughness=0.35, seed=seed)
     g.n('wavy', 'directional_warp', {'in': 'ring', 'height': 'wave'}, intensity=warp, angle=0.25)
     g.n('fib', 'fbm', scale_x=4, scale_y=96, octaves=3, roughness=0.6, seed=seed + 7)
     g.n('grain', 'blend', {'fg': 'fib', 'bg': 'wavy'}, mode='overlay', opacity=fiber)
-    g.p('ring_waviness', 'wavy.intensity', min=0.0, max=0.12)
+    g.p('ring_waviness', 'wavy.intensity', min=0.0, max=0.05)
     g.p('ring_width', 'ring.width', min=0.1, max=0.8)
     g.p('fiber_strength', 'grain.opacity', min=0.0, max=1.0)
     return 'grain'
@@ -103,7 +103,7 @@ def wood_planks(name, rows, cols, layout, col, seed, desc):
     g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
     g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.5, 0.38)
-    finish(g, 'h', r, 'gap_dark', 0.01)
+    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03)
 
 
 wood_planks('wood_planks', 8, 2, 'planks', ((0.50, 0.30, 0.14), (0.34, 0.18, 0.07), (0.18, 0.08, 0.03)), 1,
@@ -116,7 +116,7 @@ wood_planks('wood_planks_light', 10, 3, 'bricks', ((0.70, 0.52, 0.32), (0.58, 0.
 
 def parquet_herringbone():
     g = G('wood_parquet_herringbone', 'wood', 'Herringbone parquet; the grain turns with every plank.')
-    grain = wood_grain(g, rings=48, seed=3, warp=0.03)
+    grain = wood_grain(g, rings=48, seed=3, warp=0.015)
     g.n('hb', 'herringbone', {'pattern': grain}, count=2, ratio=4, gap=0.04, bevel=0.06, lum_var=0.6, seed=4)
     g.p('plank_ratio', 'hb.ratio')
     g.p('repeats', 'hb.count', min=1, max=6)
@@ -130,7 +130,7 @@ def parquet_herringbone():
     g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply')
     g.n('h', 'blend', {'fg': grain, 'bg': 'hb.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'alb', 0.01)
+    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03)
 
 
 parquet_herringbone()
@@ -138,7 +138,7 @@ parquet_herringbone()
 
 def parquet_grid():
     g = G('wood_parquet_checker', 'wood', 'Basket parquet: square blocks alternating the grain direction.')
-    grain = wood_grain(g, rings=64, seed=11, warp=0.02)
+    grain = wood_grain(g, rings=64, seed=11, warp=0.012)
     g.n('rot', 'transform', {'in': grain}, rotation='90')
     g.n('chk', 'checker', count=6, softness=0.005)
     g.n('mix', 'blend', {'fg': 'rot', 'bg': grain, 'mask': 'chk'})
@@ -151,7 +151,7 @@ def parquet_grid():
     g.p('block_tint', 'tint.opacity')
     g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'tint', 0.01)
+    finish(g, 'h', r, 'tint', 0.005, normal_max=0.03)
 
 
 parquet_grid()
@@ -159,11 +159,11 @@ parquet_grid()
 
 def veneer():
     g = G('wood_veneer', 'wood', 'Continuous wood veneer (furniture, doors): flowing grain, satin finish.')
-    grain = wood_grain(g, rings=20, seed=21, warp=0.09, fiber=0.3)
+    grain = wood_grain(g, rings=20, seed=21, warp=0.04, fiber=0.3)
     c = wood_colors(g, grain, (0.62, 0.40, 0.20), (0.46, 0.26, 0.11), (0.28, 0.13, 0.05))
     g.n('hsl', 'hsl', {'in': c})
-    g.p('hue_shift', 'hsl.hue', min=-0.1, max=0.1)
-    g.p('saturation', 'hsl.saturation', min=0.5, max=1.5)
+    g.p('hue_shift', 'hsl.hue', min=-0.03, max=0.03)
+    g.p('saturation', 'hsl.saturation', min=0.7, max=1.3)
     r = rough_from(g, grain, 0.35, 0.25)
     g.n('h', 'levels', {'in': grain}, out_low=0.4, out_high=0.6)
     finish(g, 'h', r, 'hsl', 0.005)
@@ -174,12 +174,12 @@ veneer()
 
 def painted_wood():
     g = G('wood_painted', 'wood', 'Painted wooden boards: paint color over faint grain and plank seams.')
-    grain = wood_grain(g, rings=30, seed=31, warp=0.05, fiber=0.5)
+    grain = wood_grain(g, rings=30, seed=31, warp=0.025, fiber=0.5)
     g.n('tiles', 'tile', {'pattern': grain}, layout='bricks', rows=2, cols=6, gap=0.005, bevel=0.01, lum_var=0.1, seed=32)
     g.p('board_count', 'tiles.cols', min=2, max=16)
     g.p('board_gap', 'tiles.gap', min=0.0, max=0.05)
     g.n('rot', 'transform', {'in': 'tiles.sampled'}, rotation='90')
-    g.n('paint', 'uniform_color', color=[0.55, 0.62, 0.58])
+    g.n('paint', 'uniform_color', color=[0.70, 0.69, 0.64])
     g.p('paint_color', 'paint.color')
     g.n('shade', 'levels', {'in': 'rot'}, out_low=0.85, out_high=1.0)
     g.p('grain_show_through', 'shade.out_low', min=0.5, max=1.0)
@@ -189,7 +189,7 @@ def painted_wood():
     g.n('h', 'blend', {'fg': 'rot', 'bg': 'tiles.height'}, mode='multiply', opacity=0.1)
     g.n('h2', 'transform', {'in': 'h'}, rotation='90')
     r = rough_from(g, 'rot', 0.45, 0.3)
-    finish(g, 'h', r, 'alb', 0.01)
+    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03)
 
 
 painted_wood()
@@ -233,8 +233,38 @@ tile_graph('tile_terracotta', 'Terracotta floor tiles, warm and uneven.', 'grid'
            [0.55, 0.22, 0.1], [0.45, 0.42, 0.38], 0.07, 0.08, 0.6, rough=(0.6, 0.7))
 tile_graph('tile_mosaic', 'Small square glass mosaic with varied blue-green tiles.', 'grid', 24, 24,
            [0.18, 0.42, 0.5], [0.7, 0.7, 0.68], 0.12, 0.12, 0.8, rough=(0.08, 0.15), noise_scale=2)
-tile_graph('tile_checker', 'Black and white checker floor tiles.', 'grid', 8, 8,
-           [0.5, 0.5, 0.5], [0.4, 0.4, 0.4], 0.03, 0.04, 0.05)
+
+
+def checker_tiles():
+    g = G('tile_checker', 'tile', 'Black and white checker floor tiles (two colours alternating, thin grout).')
+    g.n('t', 'tile', layout='grid', rows=8, cols=8, row_offset=0.0, gap=0.03, bevel=0.04, lum_var=0.05, seed=3)
+    g.n('chk', 'checker', count=8, softness=0.002)
+    # one count drives the tile grid and the colour checker so they stay aligned
+    g.p('tile_count', 't.rows', 't.cols', 'chk.count', min=4, max=16)
+    g.p('grout_width', 't.gap', min=0.0, max=0.2)
+    g.p('bevel', 't.bevel', min=0.005, max=0.3)
+    g.p('tile_variation', 't.lum_var')
+    g.n('cloud', 'fbm', scale_x=4, scale_y=4, octaves=5, roughness=0.5, seed=5)
+    g.n('var', 'blend', {'fg': 'cloud', 'bg': 't.random'}, mode='overlay', opacity=0.2)
+    g.p('surface_mottling', 'var.opacity')
+    g.n('ca', 'gradient_map', {'in': 'var'}, color_0=[0.62, 0.62, 0.6], color_1=[0.75, 0.75, 0.73], color_2=[0.82, 0.82, 0.8])
+    g.p('light_tile_color', 'ca.color_1')
+    g.n('cb', 'gradient_map', {'in': 'var'}, color_0=[0.012, 0.012, 0.013], color_1=[0.025, 0.025, 0.027], color_2=[0.04, 0.04, 0.042])
+    g.p('dark_tile_color', 'cb.color_1')
+    g.n('tc', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 'chk'})
+    g.n('gc', 'uniform_color', color=[0.45, 0.44, 0.42])
+    g.p('grout_color', 'gc.color')
+    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 't.height'})
+    g.n('gn', 'fbm', scale_x=32, scale_y=32, octaves=3, roughness=0.5, seed=9)
+    g.n('h', 'blend', {'fg': 'gn', 'bg': 't.height'}, mode='multiply', opacity=0.05)
+    g.n('rm', 'blend', {'fg': 't.height', 'bg': 'gn'}, mode='copy', opacity=0.9)
+    g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=0.12)
+    g.p('roughness_grout', 'rough.out_low')
+    g.p('roughness_tile', 'rough.out_high')
+    finish(g, 'h', 'rough', 'alb', 0.01)
+
+
+checker_tiles()
 
 
 def hex_tiles():
@@ -409,8 +439,8 @@ def venetian():
     g.n('st', 'directional_blur', {'in': 'f'}, length=0.08, angle=0.08, taps=12)
     g.p('stroke_length', 'st.length', min=0.0, max=0.2)
     g.p('stroke_angle', 'st.angle')
-    g.n('lv', 'levels', {'in': 'st'}, in_low=0.3, in_high=0.7)
-    colors3(g, 'col', 'lv', [0.55, 0.45, 0.35], [0.68, 0.58, 0.46], [0.8, 0.72, 0.6])
+    g.n('lv', 'levels', {'in': 'st'}, in_low=0.2, in_high=0.8)
+    colors3(g, 'col', 'lv', [0.6, 0.53, 0.44], [0.69, 0.62, 0.52], [0.77, 0.71, 0.61])
     g.n('rough', 'levels', {'in': 'lv'}, out_low=0.2, out_high=0.35)
     g.p('roughness_min', 'rough.out_low')
     g.p('roughness_max', 'rough.out_high')
@@ -628,7 +658,7 @@ def velvet():
     g.p('crush_direction', 'dirb.angle')
     g.p('crush_length', 'dirb.length', min=0.0, max=0.15)
     g.n('m', 'blend', {'fg': 'pile', 'bg': 'dirb'}, mode='overlay', opacity=0.3)
-    colors3(g, 'col', 'm', [0.08, 0.02, 0.06], [0.2, 0.05, 0.15], [0.35, 0.12, 0.28])
+    colors3(g, 'col', 'm', [0.1, 0.025, 0.035], [0.17, 0.045, 0.06], [0.27, 0.085, 0.1])
     g.n('rough', 'levels', {'in': 'm'}, out_low=0.7, out_high=0.9)
     g.p('roughness_min', 'rough.out_low')
     g.p('roughness_max', 'rough.out_high')

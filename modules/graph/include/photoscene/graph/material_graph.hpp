@@ -132,8 +132,11 @@ class MaterialGraph {
   std::vector<uint8_t> differentiableMask() const;
 
   /// A random draw: each value = lerp(default, uniform sample in its range, spread); discrete
-  /// parameters take a uniform sample with probability `spread`, else their default. The albedo
-  /// offset is drawn in [-0.1, 0.1] * spread. Same seed, same values.
+  /// parameters take a uniform sample with probability `spread`, else their default. Colours
+  /// vary around their default in Oklab (lightness x exp(+-0.45 spread), chroma x exp(+-0.4
+  /// spread), hue turned by a shared +-0.2 spread plus a per-colour +-0.08 spread radians) so draws
+  /// stay plausible materials of the graph's kind. The albedo offset is a gray shift in
+  /// [-0.06, 0.06] * spread plus +-0.01 * spread per channel. Same seed, same values.
   std::vector<float> randomValues(uint64_t seed, float spread = 0.5f) const;
 
   /// True when the graph defines map `kind` (albedo, normal and roughness are always defined).
