@@ -1,0 +1,716 @@
+#include "photoscene/render/render_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/parallel.hpp"
+#include "photoscene/raytrace/bsdf.hpp"
+
+namespace ps {
+
+// ---------------------------------------------------------------------------------------------
+// UV parameters
+
+UvTransform UvParams::toTransform() const {
+  UvTransform t;
+  t.rotationDeg = degrees(rotation);
+  t.scale = Vec2f::Constant(std::exp(logScale));
+  t.offset = offset;
+  return t;
+}
+
+UvParams UvParams::fromTransform(const UvTransform& t) {
+  UvParams p;
+  p.rotation = radians(t.rotationDeg);
+  p.logScale = 0.5f * (std::log(std::max(1e-12f, std::abs(t.scale.x()))) + std::log(std::max(1e-12f, std::abs(t.scale.y()))));
+  p.offset = t.offset;
+  return p;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry
+
+namespace {
+Vec3f readVec3(const cv::Mat& m, int y, int x) {
+  const cv::Vec3f v = m.at<cv::Vec3f>(y, x);
+  return Vec3f(v[0], v[1], v[2]);
+}
+Vec2f readVec2(const cv::Mat& m, int y, int x) {
+  const cv::Vec2f v = m.at<cv::Vec2f>(y, x);
+  return Vec2f(v[0], v[1]);
+}
+Vec3f localDirection(float cosT, float phi) {
+  const float sinT = std::sqrt(std::max(0.0f, 1 - cosT * cosT));
+  return Vec3f(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
+}
+bool finite3(const Vec3f& v) { return v.allFinite(); }
+}  // namespace
+
+PartGeometry preparePartGeometry(const GBuffer& gb, const Vec3f& cameraCenter, const IncidentLightGrid& grid,
+                                 const cv::Mat& mask, int part) {
+  PS_Check(!mask.empty() && mask.type() == CV_8UC1, "preparePartGeometry: mask must be CV_8UC1");
+  PS_Check(mask.size() == gb.partId.size(), "preparePartGeometry: mask and G-buffer sizes differ");
+  PS_Check(grid.width >= 1 && grid.height >= 1 && grid.thetaBins >= 1 && grid.phiBins >= 1,
+           "preparePartGeometry: empty incident-light grid");
+  const int W = mask.cols, H = mask.rows;
+  PS_CheckEQ(grid.width, (W + grid.stride - 1) / grid.stride, "preparePartGeometry: grid does not match the image");
+  PS_CheckEQ(grid.height, (H + grid.stride - 1) / grid.stride, "preparePartGeometry: grid does not match the image");
+  PartGeometry g;
+  g.imageSize = mask.size();
+  g.part = part;
+  g.thetaBins = grid.thetaBins;
+  g.phiBins = grid.phiBins;
+  g.bins = grid.thetaBins * grid.phiBins;
+  g.binSolidAngle = grid.binSolidAngle();
+  for (int i = 0; i < grid.thetaBins; ++i)
+    for (int j = 0; j < grid.phiBins; ++j) g.binDir.push_back(grid.binDirection(i, j));
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      if (mask.at<uint8_t>(y, x) && gb.partId.at<int>(y, x) >= 0) g.pixels.emplace_back(x, y);
+  const int n = g.size();
+  g.data.resize(n);
+  g.light.assign(static_cast<size_t>(n) * g.bins * 3, 0.0f);
+  // Grid points usable for a pixel: they see a surface of the same part with a similar normal.
+  auto gridPart = [&](int gx, int gy) { return gb.partId.at<int>(grid.pixelY(gy, H), grid.pixelX(gx, W)); };
+  parallelFor(0, n, [&](int64_t k) {
+    const int x = g.pixels[k].x, y = g.pixels[k].y;
+    PartGeometry::Pixel& px = g.data[k];
+    const Vec3f N = readVec3(gb.normalShading, y, x);
+    Vec3f T = readVec3(gb.tangent, y, x), B = readVec3(gb.bitangent, y, x);
+    if (!(T.squaredNorm() > 0.5f) || !(B.squaredNorm() > 0.5f) || !finite3(T) || !finite3(B))
+      orthonormalBasis(N, T, B);
+    const Vec3f P = readVec3(gb.position, y, x);
+    Vec3f wo = cameraCenter - P;
+    const float wl = wo.norm();
+    wo = (wl > 0 && std::isfinite(wl)) ? Vec3f(wo / wl) : N;
+    px.wo = Vec3f(wo.dot(T), wo.dot(B), wo.dot(N));
+    px.uv = readVec2(gb.uv, y, x);
+    if (!px.uv.allFinite()) px.uv = Vec2f::Zero();
+    const Vec2f dx = readVec2(gb.duvdx, y, x), dy = readVec2(gb.duvdy, y, x);
+    const float fp = std::max(dx.norm(), dy.norm());
+    px.footprint = std::isfinite(fp) ? fp : 0.0f;
+    const Vec3f dpdu = readVec3(gb.dpdu, y, x), dpdv = readVec3(gb.dpdv, y, x);
+    px.J[0] = T.dot(dpdu);
+    px.J[1] = T.dot(dpdv);
+    px.J[2] = B.dot(dpdu);
+    px.J[3] = B.dot(dpdv);
+    const float det = px.J[0] * px.J[3] - px.J[1] * px.J[2];
+    px.frameOk = std::isfinite(det) && std::abs(det) > 1e-12f;
+    if (!px.frameOk) {
+      px.J[0] = 1, px.J[1] = 0, px.J[2] = 0, px.J[3] = 1;
+    }
+    // Bilinear weights over the 4 surrounding grid points, restricted to compatible ones.
+    const float s = static_cast<float>(grid.stride);
+    const float fx = (x - std::floor(s / 2)) / s, fy = (y - std::floor(s / 2)) / s;
+    const int gx0 = clampv(static_cast<int>(std::floor(fx)), 0, grid.width - 1);
+    const int gy0 = clampv(static_cast<int>(std::floor(fy)), 0, grid.height - 1);
+    const int gx1 = std::min(gx0 + 1, grid.width - 1), gy1 = std::min(gy0 + 1, grid.height - 1);
+    auto frac = [](int p, int p0, int p1) {
+      return p1 > p0 ? clampv(static_cast<float>(p - p0) / static_cast<float>(p1 - p0), 0.0f, 1.0f) : 0.0f;
+    };
+    const float wx = frac(x, grid.pixelX(gx0, W), grid.pixelX(gx1, W));
+    const float wy = frac(y, grid.pixelY(gy0, H), grid.pixelY(gy1, H));
+    struct Cand {
+      int gx, gy;
+      float w;
+    } cands[4] = {{gx0, gy0, (1 - wx) * (1 - wy)}, {gx1, gy0, wx * (1 - wy)}, {gx0, gy1, (1 - wx) * wy}, {gx1, gy1, wx * wy}};
+    auto compatible = [&](int gx, int gy, bool samePart) {
+      const size_t gi = static_cast<size_t>(gy) * grid.width + gx;
+      if (!grid.valid[gi]) return false;
+      if (samePart && gridPart(gx, gy) != part) return false;
+      return grid.frameN[gi].dot(N) > 0.95f;
+    };
+    float wsum = 0;
+    float* L = &g.light[static_cast<size_t>(k) * g.bins * 3];
+    auto addPoint = [&](int gx, int gy, float w) {
+      if (w <= 0) return;
+      for (int b = 0; b < g.bins; ++b) {
+        const Vec3f& v = grid.at(gx, gy, b / grid.phiBins, b % grid.phiBins);
+        for (int c = 0; c < 3; ++c) L[b * 3 + c] += w * (std::isfinite(v[c]) ? std::max(0.0f, v[c]) : 0.0f);
+      }
+      wsum += w;
+    };
+    for (const Cand& c : cands)
+      if (compatible(c.gx, c.gy, true)) addPoint(c.gx, c.gy, c.w);
+    if (!(wsum > 1e-6f)) {
+      // The nearest compatible grid point (same part first, then any surface facing the same way).
+      std::fill(L, L + g.bins * 3, 0.0f);
+      wsum = 0;
+      for (int pass = 0; pass < 2 && wsum == 0; ++pass) {
+        int best = -1;
+        float bestD = 1e30f;
+        for (int gy = 0; gy < grid.height; ++gy)
+          for (int gx = 0; gx < grid.width; ++gx) {
+            if (!compatible(gx, gy, pass == 0)) continue;
+            const float ddx = static_cast<float>(grid.pixelX(gx, W) - x), ddy = static_cast<float>(grid.pixelY(gy, H) - y);
+            const float d = ddx * ddx + ddy * ddy;
+            if (d < bestD) bestD = d, best = gy * grid.width + gx;
+          }
+        if (best >= 0) addPoint(best % grid.width, best / grid.width, 1.0f);
+      }
+    }
+    if (wsum > 0)
+      for (int i = 0; i < g.bins * 3; ++i) L[i] /= wsum;
+  }, 64);
+  return g;
+}
+
+std::vector<Vec3f> gatherPixels(const PartGeometry& g, const cv::Mat& image) {
+  std::vector<Vec3f> out;
+  out.reserve(g.pixels.size());
+  for (const cv::Point& p : g.pixels) out.push_back(readVec3(image, p.y, p.x));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mip pyramids (periodic, power-of-two box filter)
+
+namespace {
+
+struct Pyramid {
+  std::vector<cv::Mat> level;  // level[0] = the map
+  int channels = 0;
+  bool empty() const { return level.empty(); }
+  int levels() const { return static_cast<int>(level.size()); }
+  float log2Size = 0;
+};
+
+bool isPow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+Pyramid buildPyramid(const cv::Mat& map, int channels, bool filter, const char* what) {
+  Pyramid p;
+  if (map.empty()) return p;
+  PS_Check(map.type() == CV_MAKETYPE(CV_32F, channels), std::string("render layer: ") + what + " map has the wrong type");
+  PS_Check(map.rows == map.cols && isPow2(map.rows), std::string("render layer: ") + what + " map must be N x N, N a power of two");
+  p.channels = channels;
+  p.level.push_back(map.isContinuous() ? map : map.clone());
+  p.log2Size = std::log2(static_cast<float>(map.rows));
+  while (filter && p.level.back().rows > 1) {
+    const cv::Mat& a = p.level.back();
+    const int n = a.rows / 2;
+    cv::Mat b(n, n, a.type());
+    for (int y = 0; y < n; ++y) {
+      const float* r0 = a.ptr<float>(2 * y);
+      const float* r1 = a.ptr<float>(2 * y + 1);
+      float* o = b.ptr<float>(y);
+      for (int x = 0; x < n; ++x)
+        for (int c = 0; c < channels; ++c)
+          o[x * channels + c] = 0.25f * (r0[2 * x * channels + c] + r0[(2 * x + 1) * channels + c] +
+                                         r1[2 * x * channels + c] + r1[(2 * x + 1) * channels + c]);
+    }
+    p.level.push_back(b);
+  }
+  return p;
+}
+
+// The 4 taps of a periodic bilinear lookup at t on an n x n level.
+struct Taps {
+  int x0, x1, y0, y1;
+  float fx, fy;
+  float n;
+};
+inline Taps taps(float tu, float tv, int n) {
+  Taps t;
+  const float u = tu - std::floor(tu), v = tv - std::floor(tv);
+  const float x = u * n - 0.5f, y = (1.0f - v) * n - 0.5f;
+  const float xf = std::floor(x), yf = std::floor(y);
+  t.fx = x - xf;
+  t.fy = y - yf;
+  auto wrap = [n](int i) { i %= n; return i < 0 ? i + n : i; };
+  t.x0 = wrap(static_cast<int>(xf));
+  t.x1 = wrap(t.x0 + 1);
+  t.y0 = wrap(static_cast<int>(yf));
+  t.y1 = wrap(t.y0 + 1);
+  t.n = static_cast<float>(n);
+  return t;
+}
+
+// Trilinear lookup: value, d value / d t (2 per channel), d value / d lod.
+struct LodInfo {
+  int l0 = 0, l1 = 0;
+  float f = 0;        // weight of l1
+  float dLodDls = 0;  // d lod / d logScale (0 when clamped)
+};
+inline LodInfo lodInfo(const Pyramid& p, float log2Footprint, bool finiteFootprint) {
+  LodInfo li;
+  if (p.levels() <= 1 || !finiteFootprint) return li;
+  const float lod = log2Footprint + p.log2Size;
+  const float maxL = static_cast<float>(p.levels() - 1);
+  if (!(lod > 0)) return li;
+  if (lod >= maxL) {
+    li.l0 = li.l1 = p.levels() - 1;
+    return li;
+  }
+  li.l0 = static_cast<int>(std::floor(lod));
+  li.l1 = li.l0 + 1;
+  li.f = lod - li.l0;
+  li.dLodDls = 1.0f / std::log(2.0f);
+  return li;
+}
+
+inline void sampleLevel(const cv::Mat& m, int C, const Taps& t, float w, float* val, float* dtu, float* dtv) {
+  const float* r0 = m.ptr<float>(t.y0);
+  const float* r1 = m.ptr<float>(t.y1);
+  for (int c = 0; c < C; ++c) {
+    const float v00 = r0[t.x0 * C + c], v10 = r0[t.x1 * C + c], v01 = r1[t.x0 * C + c], v11 = r1[t.x1 * C + c];
+    const float a = v00 + t.fx * (v10 - v00), b = v01 + t.fx * (v11 - v01);
+    val[c] += w * (a + t.fy * (b - a));
+    if (dtu) {
+      dtu[c] += w * t.n * ((1 - t.fy) * (v10 - v00) + t.fy * (v11 - v01));
+      // y grows as t_v decreases
+      dtv[c] += -w * t.n * ((1 - t.fx) * (v01 - v00) + t.fx * (v11 - v10));
+    }
+  }
+}
+
+struct Sample {
+  float v[3] = {0, 0, 0};
+  float dtu[3] = {0, 0, 0}, dtv[3] = {0, 0, 0};
+  float dlod[3] = {0, 0, 0};
+};
+
+inline void samplePyramid(const Pyramid& p, const Vec2f& t, const LodInfo& li, bool wantGrad, Sample& s) {
+  const int C = p.channels;
+  const cv::Mat& m0 = p.level[li.l0];
+  const Taps t0 = taps(t.x(), t.y(), m0.rows);
+  if (li.l1 == li.l0 || li.f == 0) {
+    sampleLevel(m0, C, t0, 1.0f, s.v, wantGrad ? s.dtu : nullptr, s.dtv);
+    if (wantGrad && li.l1 != li.l0) {
+      float v1[3] = {0, 0, 0};
+      const cv::Mat& m1 = p.level[li.l1];
+      sampleLevel(m1, C, taps(t.x(), t.y(), m1.rows), 1.0f, v1, nullptr, nullptr);
+      for (int c = 0; c < C; ++c) s.dlod[c] = v1[c] - s.v[c];
+    }
+    return;
+  }
+  float v0[3] = {0, 0, 0}, v1[3] = {0, 0, 0};
+  const cv::Mat& m1 = p.level[li.l1];
+  sampleLevel(m0, C, t0, 1.0f - li.f, v0, wantGrad ? s.dtu : nullptr, s.dtv);
+  sampleLevel(m1, C, taps(t.x(), t.y(), m1.rows), li.f, v1, wantGrad ? s.dtu : nullptr, s.dtv);
+  for (int c = 0; c < C; ++c) {
+    s.v[c] = v0[c] + v1[c];
+    if (wantGrad) s.dlod[c] = v1[c] / li.f - v0[c] / (1.0f - li.f);
+  }
+}
+
+// Adjoint of samplePyramid's value with respect to the texels.
+inline void scatterLevel(cv::Mat& g, int C, const Taps& t, float w, const float* gv) {
+  float* r0 = g.ptr<float>(t.y0);
+  float* r1 = g.ptr<float>(t.y1);
+  const float w00 = w * (1 - t.fx) * (1 - t.fy), w10 = w * t.fx * (1 - t.fy), w01 = w * (1 - t.fx) * t.fy,
+              w11 = w * t.fx * t.fy;
+  for (int c = 0; c < C; ++c) {
+    r0[t.x0 * C + c] += w00 * gv[c];
+    r0[t.x1 * C + c] += w10 * gv[c];
+    r1[t.x0 * C + c] += w01 * gv[c];
+    r1[t.x1 * C + c] += w11 * gv[c];
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// BRDF pieces (same formulas as raytrace/bsdf.cpp, written in cosines, with derivatives)
+
+struct G1Eval {
+  float g, dc, da;  // G1, dG1/dcos, dG1/dalpha
+};
+inline G1Eval smithG1d(float c, float a) {
+  const float a2 = a * a;
+  const float s = std::sqrt(std::max(0.0f, c * c + a2 * (1 - c * c)));
+  const float cs = c + s;
+  G1Eval r;
+  r.g = 2 * c / cs;
+  const float dsdc = s > 0 ? c * (1 - a2) / s : 0.0f;
+  const float dsda = s > 0 ? a * (1 - c * c) / s : 0.0f;
+  r.dc = 2 * (s - c * dsdc) / (cs * cs);
+  r.da = -2 * c * dsda / (cs * cs);
+  return r;
+}
+struct KEval {
+  float k, dc, da;  // G1(c) / (4c) = 1 / (2 (c + s))
+};
+inline KEval kTerm(float c, float a) {
+  const float a2 = a * a;
+  const float s = std::sqrt(std::max(0.0f, c * c + a2 * (1 - c * c)));
+  const float cs = c + s;
+  const float dsdc = s > 0 ? c * (1 - a2) / s : 0.0f;
+  const float dsda = s > 0 ? a * (1 - c * c) / s : 0.0f;
+  KEval r;
+  r.k = 0.5f / cs;
+  r.dc = -0.5f * (1 + dsdc) / (cs * cs);
+  r.da = -0.5f * dsda / (cs * cs);
+  return r;
+}
+struct DEval {
+  float d, dc, da;
+};
+inline DEval ggxDd(float c, float a) {
+  DEval r{0, 0, 0};
+  if (c <= 0) return r;
+  const float a2 = a * a;
+  const float q = c * c * (a2 - 1) + 1;
+  const float q2 = q * q;
+  r.d = a2 / (kPi * q2);
+  r.dc = -4 * a2 * c * (a2 - 1) / (kPi * q2 * q);
+  r.da = 2 * a / (kPi * q2 * q) * (q - 2 * a2 * c * c);
+  return r;
+}
+
+}  // namespace
+
+struct RenderLayerWorkspace {
+  Pyramid albedo, normal, roughness;
+  // specular sub-directions: direction and bin index
+  std::vector<Vec3f> subDir;
+  std::vector<int> subBin;
+  float subSolidAngle = 0;
+  int sub = 0;
+};
+
+namespace {
+
+struct PixelGrad {
+  Vec2f t = Vec2f::Zero();
+  float gA[3] = {0, 0, 0}, gN[3] = {0, 0, 0}, gR = 0;
+  LodInfo liA, liN, liR;
+  float gRot = 0, gLs = 0;
+  Vec2f gT = Vec2f::Zero();
+  float gRoughValue = 0, gMetal = 0;
+};
+
+// Renders pixel k; with g != null (and gradOut = d loss / d I), fills the pixel's gradients.
+Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int k, const Vec3f* gradOut,
+                 PixelGrad* pg) {
+  const PartGeometry& geo = *p.geometry;
+  const PartGeometry::Pixel& px = geo.data[k];
+  const Vec3f& wo = px.wo;
+  if (!(wo.z() > 0)) return Vec3f::Zero();  // the path tracer returns no reflection here
+  const bool wantGrad = pg != nullptr;
+  const float cr = std::cos(p.uv.rotation), sr = std::sin(p.uv.rotation);
+  const float scale = std::exp(p.uv.logScale);
+  const Vec2f su = scale * px.uv;
+  const Vec2f t(cr * su.x() - sr * su.y() + p.uv.offset.x(), sr * su.x() + cr * su.y() + p.uv.offset.y());
+  const bool fpOk = px.footprint > 0 && std::isfinite(px.footprint);
+  const float log2Fp = fpOk ? std::log2(px.footprint * scale) : 0.0f;
+
+  // ---- material lookups ----
+  Sample sA, sN, sR;
+  LodInfo liA, liN, liR;
+  liA = p.filter ? lodInfo(ws.albedo, log2Fp, fpOk) : LodInfo{};
+  samplePyramid(ws.albedo, t, liA, wantGrad, sA);
+  const float A[3] = {sA.v[0], sA.v[1], sA.v[2]};
+  float rough = p.roughnessValue;
+  if (!ws.roughness.empty()) {
+    liR = p.filter ? lodInfo(ws.roughness, log2Fp, fpOk) : LodInfo{};
+    samplePyramid(ws.roughness, t, liR, wantGrad, sR);
+    rough = sR.v[0];
+  }
+  // normal: tangent space -> local frame
+  Vec3f nts(0, 0, 1);
+  Vec3f nraw(0, 0, 1);
+  float nlen = 1;
+  bool normalActive = false;
+  if (!ws.normal.empty()) {
+    liN = p.filter ? lodInfo(ws.normal, log2Fp, fpOk) : LodInfo{};
+    samplePyramid(ws.normal, t, liN, wantGrad, sN);
+    nraw = Vec3f(sN.v[0], sN.v[1], sN.v[2]);
+    nlen = nraw.norm();
+    if (nlen > 1e-6f && std::isfinite(nlen) && nraw.z() > 0) {
+      nts = nraw / nlen;
+      normalActive = true;
+    }
+  }
+  // frame of t in the local tangent plane: T along dP/dt_u, B along dP/dt_v
+  const float* J = px.J;
+  Vec2f Tt(1, 0), Bt(0, 1), dTt = Vec2f::Zero(), dBt = Vec2f::Zero();
+  if (px.frameOk) {
+    const Vec2f v(J[0] * cr - J[1] * sr, J[2] * cr - J[3] * sr);
+    const Vec2f w(J[0] * sr + J[1] * cr, J[2] * sr + J[3] * cr);
+    const float vl = v.norm();
+    if (vl > 1e-12f && std::isfinite(vl)) {
+      Tt = v / vl;
+      const Vec2f Bp(-Tt.y(), Tt.x());
+      const float sgn = Bp.dot(w) < 0 ? -1.0f : 1.0f;
+      Bt = sgn * Bp;
+      const Vec2f dv = -w;  // d v / d rotation
+      dTt = (dv - Tt * Tt.dot(dv)) / vl;
+      dBt = sgn * Vec2f(-dTt.y(), dTt.x());
+    }
+  }
+  Vec3f n(nts.x() * Tt.x() + nts.y() * Bt.x(), nts.x() * Tt.y() + nts.y() * Bt.y(), nts.z());
+  bool nFree = normalActive;
+  if (n.dot(wo) < 1e-4f) {
+    n = Vec3f(0, 0, 1);
+    nFree = false;
+  }
+
+  // ---- shading ----
+  const float m = clampv(p.metallic, 0.0f, 1.0f);
+  const float f0d = 0.08f * clampv(p.specular, 0.0f, 1.0f);
+  float Ac[3], F0[3];
+  for (int c = 0; c < 3; ++c) {
+    Ac[c] = clampv(A[c], 0.0f, 1.0f);
+    F0[c] = clampv(f0d * (1 - m) + Ac[c] * m, 0.0f, 1.0f);
+  }
+  const bool noSpec = std::max({F0[0], F0[1], F0[2]}) <= 0.0f;
+  const float f90 = std::min(1.0f, 50.0f * F0[1]);
+  const float rc = clampv(std::isfinite(rough) ? rough : 1.0f, 0.0f, 1.0f);
+  const float alpha = std::max(rc * rc, kMinAlpha);
+  const float dAlphaDr = (rc * rc > kMinAlpha && rough > 0 && rough < 1) ? 2 * rc : 0.0f;
+  const float* L = &geo.light[static_cast<size_t>(k) * geo.bins * 3];
+  const float dOm = geo.binSolidAngle;
+
+  // diffuse
+  double E[3] = {0, 0, 0};
+  for (int b = 0; b < geo.bins; ++b) {
+    const float c = n.dot(geo.binDir[b]);
+    if (c <= 0) continue;
+    for (int ch = 0; ch < 3; ++ch) E[ch] += L[b * 3 + ch] * c;
+  }
+  Vec3f I;
+  const float kd = (1 - m) * kInvPi * dOm;
+  for (int ch = 0; ch < 3; ++ch) I[ch] = static_cast<float>(Ac[ch] * kd * E[ch]);
+
+  // specular
+  double S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
+  KEval K{0, 0, 0};
+  const float cO = n.dot(wo);
+  const float dOs = ws.subSolidAngle;
+  if (!noSpec) {
+    K = kTerm(cO, alpha);
+    for (size_t q = 0; q < ws.subDir.size(); ++q) {
+      const int b = ws.subBin[q];
+      const float* Lb = L + b * 3;
+      if (Lb[0] <= 0 && Lb[1] <= 0 && Lb[2] <= 0) continue;
+      const Vec3f& d = ws.subDir[q];
+      const float cI = n.dot(d);
+      if (cI <= 0) continue;
+      Vec3f h = wo + d;
+      const float hl = h.norm();
+      if (!(hl > 1e-8f)) continue;
+      h /= hl;
+      const float cH = n.dot(h);
+      if (cH <= 0) continue;
+      const float mm = clampv(1.0f - wo.dot(h), 0.0f, 1.0f);
+      const float fc = mm * mm * mm * mm * mm;
+      const float DG = ggxDd(cH, alpha).d * smithG1d(cI, alpha).g;
+      for (int ch = 0; ch < 3; ++ch) {
+        S1[ch] += Lb[ch] * DG * (1 - fc);
+        S2[ch] += Lb[ch] * DG * fc;
+      }
+    }
+    for (int ch = 0; ch < 3; ++ch) I[ch] += static_cast<float>(K.k * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]));
+  }
+  if (!I.allFinite()) I = Vec3f::Zero();
+  if (!wantGrad) return I;
+
+  // ---- backward ----
+  const Vec3f g = *gradOut;
+  Vec3f gn = Vec3f::Zero();  // d loss / d n (local)
+  float gAlpha = 0;
+  float gAc[3] = {0, 0, 0};
+  float gF0[3] = {0, 0, 0}, gF90 = 0, gM = 0;
+  // diffuse
+  for (int ch = 0; ch < 3; ++ch) {
+    gAc[ch] += g[ch] * kd * static_cast<float>(E[ch]);
+    gM += -g[ch] * kInvPi * dOm * Ac[ch] * static_cast<float>(E[ch]);
+  }
+  if (nFree) {
+    const float wA[3] = {g[0] * Ac[0] * kd, g[1] * Ac[1] * kd, g[2] * Ac[2] * kd};
+    for (int b = 0; b < geo.bins; ++b) {
+      const float c = n.dot(geo.binDir[b]);
+      if (c <= 0) continue;
+      const float s = wA[0] * L[b * 3] + wA[1] * L[b * 3 + 1] + wA[2] * L[b * 3 + 2];
+      gn += s * geo.binDir[b];
+    }
+  }
+  if (!noSpec) {
+    float gK = 0;
+    for (int ch = 0; ch < 3; ++ch) {
+      const float Q = static_cast<float>(dOs * (F0[ch] * S1[ch] + f90 * S2[ch]));
+      gK += g[ch] * Q;
+      gF0[ch] += g[ch] * K.k * dOs * static_cast<float>(S1[ch]);
+      gF90 += g[ch] * K.k * dOs * static_cast<float>(S2[ch]);
+    }
+    if (nFree) gn += gK * K.dc * wo;
+    gAlpha += gK * K.da;
+    for (size_t q = 0; q < ws.subDir.size(); ++q) {
+      const int b = ws.subBin[q];
+      const float* Lb = L + b * 3;
+      if (Lb[0] <= 0 && Lb[1] <= 0 && Lb[2] <= 0) continue;
+      const Vec3f& d = ws.subDir[q];
+      const float cI = n.dot(d);
+      if (cI <= 0) continue;
+      Vec3f h = wo + d;
+      const float hl = h.norm();
+      if (!(hl > 1e-8f)) continue;
+      h /= hl;
+      const float cH = n.dot(h);
+      if (cH <= 0) continue;
+      const float mm = clampv(1.0f - wo.dot(h), 0.0f, 1.0f);
+      const float fc = mm * mm * mm * mm * mm;
+      float wq = 0;
+      for (int ch = 0; ch < 3; ++ch) wq += g[ch] * Lb[ch] * (F0[ch] * (1 - fc) + f90 * fc);
+      wq *= K.k * dOs;
+      const DEval D = ggxDd(cH, alpha);
+      const G1Eval G = smithG1d(cI, alpha);
+      if (nFree) gn += wq * (D.dc * G.g * h + D.d * G.dc * d);
+      gAlpha += wq * (D.da * G.g + D.d * G.da);
+    }
+    // F0 = clamp(f0d (1 - m) + A m), F90 = min(1, 50 F0_g)
+    if (50.0f * F0[1] < 1.0f) gF0[1] += 50.0f * gF90;
+    for (int ch = 0; ch < 3; ++ch) {
+      gAc[ch] += gF0[ch] * m;
+      gM += gF0[ch] * (Ac[ch] - f0d);
+    }
+  }
+  PixelGrad& out = *pg;
+  out.t = t;
+  out.liA = liA;
+  out.liN = liN;
+  out.liR = liR;
+  for (int ch = 0; ch < 3; ++ch) out.gA[ch] = (A[ch] >= 0 && A[ch] <= 1) ? gAc[ch] : 0.0f;
+  out.gMetal = (p.metallic > 0 && p.metallic < 1) ? gM : 0.0f;
+  const float gR = gAlpha * dAlphaDr;
+  if (ws.roughness.empty()) out.gRoughValue = gR;
+  else out.gR = gR;
+  float gRot = 0;
+  if (nFree) {
+    // n.xy = nts.x Tt + nts.y Bt, n.z = nts.z
+    const Vec2f gxy(gn.x(), gn.y());
+    const Vec3f gts(gxy.dot(Tt), gxy.dot(Bt), gn.z());
+    gRot += gxy.dot(nts.x() * dTt + nts.y() * dBt);
+    const Vec3f graw = (gts - nts * nts.dot(gts)) / nlen;
+    for (int c = 0; c < 3; ++c) out.gN[c] = graw[c];
+  }
+  // through t and the lod
+  Vec2f gt = Vec2f::Zero();
+  float gLod = 0;
+  for (int c = 0; c < 3; ++c) {
+    gt += out.gA[c] * Vec2f(sA.dtu[c], sA.dtv[c]);
+    gLod += out.gA[c] * sA.dlod[c] * liA.dLodDls;
+    gt += out.gN[c] * Vec2f(sN.dtu[c], sN.dtv[c]);
+    gLod += out.gN[c] * sN.dlod[c] * liN.dLodDls;
+  }
+  gt += out.gR * Vec2f(sR.dtu[0], sR.dtv[0]);
+  gLod += out.gR * sR.dlod[0] * liR.dLodDls;
+  out.gT = gt;
+  // t = R(rot) s uv + o
+  const Vec2f dtdRot(-sr * su.x() - cr * su.y(), cr * su.x() - sr * su.y());
+  const Vec2f dtdLs = t - p.uv.offset;
+  out.gRot = gRot + gt.dot(dtdRot);
+  out.gLs = gt.dot(dtdLs) + gLod;
+  return I;
+}
+
+void prepareWorkspace(RenderLayerParams& p) {
+  PS_Check(p.geometry != nullptr, "render layer: params.geometry is null");
+  PS_Check(!p.albedo.empty(), "render layer: the albedo map is required");
+  PS_Check(p.specularSub >= 1 && p.specularSub <= 8, "render layer: specularSub must be in [1, 8]");
+  PS_Check(std::isfinite(p.uv.rotation) && std::isfinite(p.uv.logScale) && p.uv.offset.allFinite(),
+           "render layer: UV parameters must be finite");
+  auto ws = std::make_shared<RenderLayerWorkspace>();
+  ws->albedo = buildPyramid(p.albedo, 3, p.filter, "albedo");
+  ws->normal = buildPyramid(p.normal, 3, p.filter, "normal");
+  ws->roughness = buildPyramid(p.roughness, 1, p.filter, "roughness");
+  const PartGeometry& g = *p.geometry;
+  const int sub = p.specularSub;
+  ws->sub = sub;
+  ws->subSolidAngle = g.binSolidAngle / (sub * sub);
+  for (int i = 0; i < g.thetaBins; ++i)
+    for (int j = 0; j < g.phiBins; ++j)
+      for (int a = 0; a < sub; ++a)
+        for (int b = 0; b < sub; ++b) {
+          const float cosT = 1.0f - (i + (a + 0.5f) / sub) / g.thetaBins;
+          const float phi = 2 * kPi * (j + (b + 0.5f) / sub) / g.phiBins;
+          ws->subDir.push_back(localDirection(cosT, phi));
+          ws->subBin.push_back(i * g.phiBins + j);
+        }
+  p.workspace = ws;
+}
+
+}  // namespace
+
+void renderLayerForward(RenderLayerParams& p) {
+  prepareWorkspace(p);
+  const PartGeometry& g = *p.geometry;
+  p.image.create(g.imageSize, CV_32FC3);
+  p.image.setTo(cv::Scalar::all(0));
+  const RenderLayerWorkspace& ws = *p.workspace;
+  parallelFor(0, g.size(), [&](int64_t k) {
+    const Vec3f I = shadePixel(p, ws, static_cast<int>(k), nullptr, nullptr);
+    p.image.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x) = cv::Vec3f(I.x(), I.y(), I.z());
+  }, 64);
+}
+
+void renderLayerBackward(const RenderLayerParams& p, const cv::Mat& gradImage, RenderLayerGradients& out) {
+  PS_Check(p.workspace != nullptr, "renderLayerBackward: call renderLayerForward first");
+  const PartGeometry& g = *p.geometry;
+  PS_Check(gradImage.type() == CV_32FC3 && gradImage.size() == g.imageSize,
+           "renderLayerBackward: gradImage must be CV_32FC3 of the image size");
+  const RenderLayerWorkspace& ws = *p.workspace;
+  std::vector<PixelGrad> pgs(g.size());
+  parallelFor(0, g.size(), [&](int64_t k) {
+    const cv::Vec3f gi = gradImage.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x);
+    Vec3f go(gi[0], gi[1], gi[2]);
+    if (!go.allFinite()) go = Vec3f::Zero();
+    shadePixel(p, ws, static_cast<int>(k), &go, &pgs[k]);
+  }, 64);
+  out = RenderLayerGradients{};
+  // maps: scatter into every level, then the adjoint of the box pyramid down to level 0
+  auto scatterMap = [&](const Pyramid& pyr, auto getGrad, auto getLi, cv::Mat& result) {
+    if (pyr.empty()) return;
+    std::vector<cv::Mat> gl(pyr.levels());
+    for (int l = 0; l < pyr.levels(); ++l) gl[l] = cv::Mat::zeros(pyr.level[l].size(), pyr.level[l].type());
+    for (int k = 0; k < g.size(); ++k) {
+      const PixelGrad& pg = pgs[k];
+      const float* gv = getGrad(pg);
+      const LodInfo& li = getLi(pg);
+      if (gv[0] == 0 && (pyr.channels == 1 || (gv[1] == 0 && gv[2] == 0))) continue;
+      const float w1 = (li.l1 == li.l0) ? 0.0f : li.f;
+      scatterLevel(gl[li.l0], pyr.channels, taps(pg.t.x(), pg.t.y(), gl[li.l0].rows), 1.0f - w1, gv);
+      if (w1 > 0) scatterLevel(gl[li.l1], pyr.channels, taps(pg.t.x(), pg.t.y(), gl[li.l1].rows), w1, gv);
+    }
+    const int C = pyr.channels;
+    for (int l = pyr.levels() - 1; l >= 1; --l) {
+      const cv::Mat& src = gl[l];
+      cv::Mat& dst = gl[l - 1];
+      for (int y = 0; y < src.rows; ++y) {
+        const float* s = src.ptr<float>(y);
+        float* d0 = dst.ptr<float>(2 * y);
+        float* d1 = dst.ptr<float>(2 * y + 1);
+        for (int x = 0; x < src.cols; ++x)
+          for (int c = 0; c < C; ++c) {
+            const float v = 0.25f * s[x * C + c];
+            d0[2 * x * C + c] += v;
+            d0[(2 * x + 1) * C + c] += v;
+            d1[2 * x * C + c] += v;
+            d1[(2 * x + 1) * C + c] += v;
+          }
+      }
+    }
+    result = gl[0];
+  };
+  scatterMap(ws.albedo, [](const PixelGrad& q) { return q.gA; }, [](const PixelGrad& q) -> const LodInfo& { return q.liA; }, out.albedo);
+  scatterMap(ws.normal, [](const PixelGrad& q) { return q.gN; }, [](const PixelGrad& q) -> const LodInfo& { return q.liN; }, out.normal);
+  scatterMap(ws.roughness, [](const PixelGrad& q) { return &q.gR; }, [](const PixelGrad& q) -> const LodInfo& { return q.liR; }, out.roughness);
+  double rot = 0, ls = 0, ox = 0, oy = 0, rv = 0, mt = 0;
+  for (const PixelGrad& q : pgs) {
+    rot += q.gRot;
+    ls += q.gLs;
+    ox += q.gT.x();
+    oy += q.gT.y();
+    rv += q.gRoughValue;
+    mt += q.gMetal;
+  }
+  auto fin = [](double v) { return std::isfinite(v) ? static_cast<float>(v) : 0.0f; };
+  out.rotation = fin(rot);
+  out.logScale = fin(ls);
+  out.offset = Vec2f(fin(ox), fin(oy));
+  out.roughnessValue = fin(rv);
+  out.metallic = fin(mt);
+  for (cv::Mat* m : {&out.albedo, &out.normal, &out.roughness})
+    if (!m->empty()) cv::patchNaNs(*m, 0.0);
+}
+
+}  // namespace ps
