@@ -26,6 +26,10 @@ class G:
         return id
 
     def p(self, name, *targets, doc='', **kw):
+        # roughness / metallic levels outputs: their physical range, not the node's [-1, 2] (a
+        # draw outside [0, 1] clamps the map and leaves the parameter without gradient)
+        if (name.startswith('roughness') or name.endswith('metallic')) and 'min' not in kw and 'max' not in kw:
+            kw['min'], kw['max'] = 0.0, 1.0
         d = {'name': name, 'targets': list(targets)}
         if doc:
             d['doc'] = doc
@@ -43,7 +47,11 @@ class G:
                 'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
 
 
-def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, normal_max=0.1):
+def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, normal_max=None):
+    # relief range: up to 10x the default (a free 0..0.1 range turns faint textures into
+    # saturated bump noise in random draws and makes the normal map insensitive in fitting)
+    if normal_max is None:
+        normal_max = round(min(0.1, max(0.02, 10 * normal_intensity)), 4)
     g.n('nrm', 'normal', {'height': height}, intensity=normal_intensity)
     g.p('normal_strength', 'nrm.intensity', doc='relief strength', min=0.0, max=normal_max)
     g.out(albedo=albedo, normal='nrm', roughness=rough, height=height)
