@@ -41,14 +41,16 @@ Vec3f FloatTexture::texel(int x, int y) const {
 
 Vec3f FloatTexture::sample(const Vec2f& t) const {
   if (data_.empty()) return Vec3f::Zero();
-  float tu = t.x() - std::floor(t.x()), tv = t.y() - std::floor(t.y());
-  if (!std::isfinite(tu)) tu = 0;
-  if (!std::isfinite(tv)) tv = 0;
-  const float x = tu * width_ - 0.5f, y = (1.0f - tv) * height_ - 0.5f;
-  const float fx0 = std::floor(x), fy0 = std::floor(y);
-  const float ax = x - fx0, ay = y - fy0;
-  // x in [-0.5, W - 0.5): x0 in [-1, W - 1]; wrap without divisions
-  int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+  // fractional part without libm calls; NaN / Inf / huge coordinates fall back to 0
+  auto frac = [](float v) {
+    if (!(std::abs(v) < 8.0e6f)) return 0.0f;
+    const float f = v - static_cast<float>(static_cast<int>(v));
+    return f < 0 ? f + 1.0f : (f >= 1.0f ? 0.0f : f);
+  };
+  const float x = frac(t.x()) * width_ - 0.5f, y = (1.0f - frac(t.y())) * height_ - 0.5f;
+  // x, y >= -0.5: truncation of (x + 1) is floor(x) + 1
+  int x0 = static_cast<int>(x + 1.0f) - 1, y0 = static_cast<int>(y + 1.0f) - 1;
+  const float ax = x - x0, ay = y - y0;
   x0 = x0 < 0 ? x0 + width_ : (x0 >= width_ ? x0 - width_ : x0);
   y0 = y0 < 0 ? y0 + height_ : (y0 >= height_ ? y0 - height_ : y0);
   const int x1 = x0 + 1 == width_ ? 0 : x0 + 1, y1 = y0 + 1 == height_ ? 0 : y0 + 1;
@@ -56,10 +58,12 @@ Vec3f FloatTexture::sample(const Vec2f& t) const {
   const float* r0 = data_.data() + static_cast<size_t>(y0) * width_ * c;
   const float* r1 = data_.data() + static_cast<size_t>(y1) * width_ * c;
   const float w00 = (1 - ax) * (1 - ay), w10 = ax * (1 - ay), w01 = (1 - ax) * ay, w11 = ax * ay;
-  Vec3f out = Vec3f::Zero();
-  for (int k = 0; k < c && k < 3; ++k)
-    out[k] = w00 * r0[x0 * c + k] + w10 * r0[x1 * c + k] + w01 * r1[x0 * c + k] + w11 * r1[x1 * c + k];
-  return out;
+  if (c == 3) {
+    const float *a = r0 + x0 * 3, *b = r0 + x1 * 3, *d = r1 + x0 * 3, *e = r1 + x1 * 3;
+    return Vec3f(w00 * a[0] + w10 * b[0] + w01 * d[0] + w11 * e[0], w00 * a[1] + w10 * b[1] + w01 * d[1] + w11 * e[1],
+                 w00 * a[2] + w10 * b[2] + w01 * d[2] + w11 * e[2]);
+  }
+  return Vec3f(w00 * r0[x0 * c] + w10 * r0[x1 * c] + w01 * r1[x0 * c] + w11 * r1[x1 * c], 0.0f, 0.0f);
 }
 
 UvTransform UvTransform::fromDesc(const io::UvTransformDesc& d) {
