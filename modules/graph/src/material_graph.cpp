@@ -162,6 +162,9 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
   // warmer or cooler), plus a smaller per-colour part
   Rng rh = rng.split(0x68756531ULL);
   const float sharedHue = spread * 0.20f * (rh.uniform() * 2.f - 1.f);  // radians in Oklab (a, b)
+  // lightness and chroma mostly shared too, so colour ramps keep their order and contrast
+  const float sharedLight = spread * 0.35f * (rh.uniform() * 2.f - 1.f);
+  const float sharedChroma = spread * 0.3f * (rh.uniform() * 2.f - 1.f);
   for (size_t i = 0; i < parameters().size(); ++i) {
     const auto& p = parameters()[i];
     Rng r = rng.split(i);
@@ -177,8 +180,8 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
       float* x = &v[p.offset];
       float lab[3];
       linearToOklab(x, lab);
-      const float lightScale = std::exp(spread * 0.45f * (r.uniform() * 2.f - 1.f));
-      const float chromaScale = std::exp(spread * 0.4f * (r.uniform() * 2.f - 1.f));
+      const float lightScale = std::exp(sharedLight + spread * 0.12f * (r.uniform() * 2.f - 1.f));
+      const float chromaScale = std::exp(sharedChroma + spread * 0.12f * (r.uniform() * 2.f - 1.f));
       const float hue = sharedHue + spread * 0.08f * (r.uniform() * 2.f - 1.f);
       lab[0] = std::min(lab[0] * lightScale, 0.99f);
       const float ca = lab[1] * chromaScale, cb = lab[2] * chromaScale;

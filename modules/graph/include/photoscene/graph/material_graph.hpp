@@ -133,9 +133,10 @@ class MaterialGraph {
 
   /// A random draw: each value = lerp(default, uniform sample in its range, spread); discrete
   /// parameters take a uniform sample with probability `spread`, else their default. Colours
-  /// vary around their default in Oklab (lightness x exp(+-0.45 spread), chroma x exp(+-0.4
-  /// spread), hue turned by a shared +-0.2 spread plus a per-colour +-0.08 spread radians) so draws
-  /// stay plausible materials of the graph's kind. The albedo offset is a gray shift in
+  /// vary around their default in Oklab: lightness x exp(+-0.35 spread shared by all colours of
+  /// the draw +-0.12 spread per colour), chroma x exp(+-0.3 spread shared +-0.12 spread own), hue
+  /// turned by +-0.2 spread shared +-0.08 spread own radians, so draws stay plausible materials
+  /// of the graph's kind and colour ramps keep their order. The albedo offset is a gray shift in
   /// [-0.06, 0.06] * spread plus +-0.01 * spread per channel. Same seed, same values.
   std::vector<float> randomValues(uint64_t seed, float spread = 0.5f) const;
 
