@@ -106,7 +106,7 @@ fs::path followSymlinkPlaceholders(const fs::path& path) {
       while (!target.empty() && std::isspace(static_cast<unsigned char>(target.back()))) target.pop_back();
       const fs::path resolved = acc.parent_path() / target;
       if (target.empty() || !fs::is_directory(resolved, ec)) return path;
-      spdlog::warn("{} is a symlink placeholder file; following it to {}", acc.string(), resolved.string());
+      spdlog::debug("{} is a symlink placeholder file; following it to {}", acc.string(), resolved.string());
       acc = resolved;
     }
   }
