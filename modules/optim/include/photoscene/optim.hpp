@@ -2,3 +2,4 @@
 #pragma once
 
 #include "photoscene/optim/adam.hpp"
+#include "photoscene/optim/part_fit.hpp"

@@ -1,0 +1,95 @@
+// The per-part material fit of the paper (section 3.4): a material graph's parameters, one mean
+// roughness and the part's UV transform, fitted so that the render layer's image of the part
+// matches the photo.
+//
+//   loss = statWeight * L_stat + textureWeight * L_tex
+//   L_stat = sum_c |mu_c(photo) - mu_c(render)| / nu + |var_c(photo) - var_c(render)| / nu^2  (Eq. 6-8,
+//            masked; nu = mean photo luminance over the mask, so the loss is unitless)
+//   L_tex  = ps::textureLossForward (masked multi-scale texture statistics, the Eq. 9 stand-in)
+//
+// The roughness output of the graph is replaced by one scalar while fitting (initialised to the
+// mean of the graph's roughness map); the result says how to rescale the full map to it.
+// Alternation (coarse to fine): every `uvSearchEvery` iterations a discrete search over UV
+// rotation x log-scale x offset (forward passes only) picks the best transform with the current
+// maps; in between, Adam moves the graph parameters (normalised to [0, 1] by their ranges), the
+// roughness and the UV transform continuously. Early stopping on a moving-average plateau;
+// random restarts (short probes from random parameters, the best continued) only when
+// `restarts` > 0.
+//
+//   ps::PartGeometry geo = ps::preparePartGeometry(gb, camPos, grid, mask, part);
+//   ps::TextureLossTarget target(photo, mask);
+//   ps::PartFitResult r = ps::fitPart(lib.get("wood_planks"), geo, photo, target,
+//                                     ps::PartFitOptions::preset("balanced"));
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "photoscene/features/texture_loss.hpp"
+#include "photoscene/graph/material_graph.hpp"
+#include "photoscene/optim/adam.hpp"
+#include "photoscene/render/render_layer.hpp"
+
+namespace ps {
+
+struct PartFitOptions {
+  int maxIterations = 300;
+  int mapSize = 128;               ///< graph maps N x N (power of two)
+  float learningRate = 0.02f;      ///< Adam, on parameters normalised to [0, 1]
+  float uvLearningRate = 0.01f;    ///< Adam, on rotation (rad), log-scale and offsets
+  float statWeight = 1.0f;         ///< a
+  float textureWeight = 1.0f;      ///< b
+  bool fitUvContinuous = true;     ///< Adam also moves the UV transform between searches
+  int uvSearchEvery = 50;          ///< iterations between discrete searches (0: only before the first)
+  int searchRotations = 24;        ///< over [0, 360) degrees
+  int searchLogScales = 9;         ///< over [logScaleMin, logScaleMax] (absolute)
+  int searchOffsets = 1;           ///< n x n offsets over [0, 1)^2 (1: keep the current offset)
+  float logScaleMin = -1.6f, logScaleMax = 1.6f;
+  int refineSteps = 2;             ///< coarse-to-fine: halvings of the search steps around the best
+  int specularSub = 1;             ///< the layer's specularSub during the Adam iterations
+  int searchSpecularSub = 1;       ///< the layer's specularSub during searches (cheaper)
+  PlateauOptions plateau{20, 2e-3, 60};
+  int restarts = 0;                ///< random starts probed besides the defaults
+  int restartProbeIterations = 30; ///< iterations each start gets before the best is continued
+  float restartSpread = 0.5f;
+  uint64_t seed = 1;
+
+  /// "paper": 1000 iterations, maps 256, 72 rotations x 32 log-scales x 5 x 5 offsets every 50
+  /// iterations (the caller renders at 320 x 240). "balanced", "fast": less (see README).
+  static PartFitOptions preset(const std::string& name);
+  bool IsValid(std::string* error) const;
+};
+
+struct PartFitResult {
+  std::vector<float> values;       ///< graph values (MaterialGraph::values() layout)
+  UvParams uv;
+  float roughness = 0.5f;          ///< the fitted mean roughness
+  float roughnessScale = 1.0f;     ///< multiplies the graph's roughness map to that mean
+  double loss = 0, lossStat = 0, lossTexture = 0;  ///< at the returned values
+  double initialLoss = 0, initialTextureLoss = 0;  ///< at the start (defaults, initial UV)
+  int iterations = 0;              ///< Adam steps taken (all starts)
+  int searches = 0;                ///< discrete UV searches run
+  int candidates = 0;              ///< UV candidates evaluated
+  double seconds = 0;
+  bool stoppedOnPlateau = false;
+  std::vector<double> history;     ///< loss per iteration of the continued start
+  cv::Mat render;                  ///< CV_32FC3 the final render of the part (image size)
+};
+
+/// Masked statistics loss (Eq. 6-8, normalised as above) and its gradient with respect to the
+/// render (CV_32FC3, photo size, zero outside `pixels`; written when gradRender != nullptr).
+double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<cv::Point>& pixels,
+                cv::Mat* gradRender);
+
+/// Fits `graph` (a copy is made; its current values are the start) to `photo` over the part.
+/// @param geometry the part in the photo's view (its mask = the loss's mask)
+/// @param photo    CV_32FC3 linear RGB, geometry.imageSize
+/// @param target   the texture-loss target built from `photo` and the same mask
+/// @param initialUv start of the UV transform (the OBJ mapping: identity)
+PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, const cv::Mat& photo,
+                      const TextureLossTarget& target, const PartFitOptions& options,
+                      const UvParams& initialUv = {});
+
+}  // namespace ps

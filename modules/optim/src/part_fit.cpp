@@ -1,0 +1,364 @@
+#include "photoscene/optim/part_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/timer.hpp"
+
+namespace ps {
+
+PartFitOptions PartFitOptions::preset(const std::string& name) {
+  PartFitOptions o;
+  if (name == "paper") {
+    o.maxIterations = 1000;
+    o.mapSize = 256;
+    o.uvSearchEvery = 50;
+    o.searchRotations = 72;
+    o.searchLogScales = 32;
+    o.searchOffsets = 5;
+    o.refineSteps = 0;
+    o.specularSub = 2;
+    o.searchSpecularSub = 2;
+    o.plateau = PlateauOptions{50, 1e-4, 200};
+    o.restarts = 0;
+  } else if (name == "balanced") {
+    o.maxIterations = 300;
+    o.mapSize = 128;
+    o.uvSearchEvery = 100;
+    o.searchRotations = 24;
+    o.searchLogScales = 9;
+    o.searchOffsets = 1;
+    o.refineSteps = 2;
+    o.plateau = PlateauOptions{20, 2e-3, 60};
+  } else if (name == "fast") {
+    o.maxIterations = 120;
+    o.mapSize = 64;
+    o.uvSearchEvery = 0;
+    o.searchRotations = 12;
+    o.searchLogScales = 7;
+    o.searchOffsets = 1;
+    o.refineSteps = 2;
+    o.learningRate = 0.03f;
+    o.plateau = PlateauOptions{15, 3e-3, 40};
+  } else {
+    PS_Check(false, "PartFitOptions::preset: unknown preset '" + name + "' (paper, balanced, fast)");
+  }
+  return o;
+}
+
+bool PartFitOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* m) {
+    if (error) *error = m;
+    return false;
+  };
+  if (maxIterations < 0) return fail("maxIterations must be >= 0");
+  if (mapSize < 4 || (mapSize & (mapSize - 1))) return fail("mapSize must be a power of two >= 4");
+  if (!(learningRate > 0) || !(uvLearningRate >= 0)) return fail("learning rates must be positive");
+  if (!(statWeight >= 0) || !(textureWeight >= 0) || statWeight + textureWeight <= 0)
+    return fail("loss weights must be >= 0, not both 0");
+  if (searchRotations < 1 || searchLogScales < 1 || searchOffsets < 1) return fail("search grids need >= 1 entry");
+  if (!(logScaleMax >= logScaleMin)) return fail("logScaleMax < logScaleMin");
+  if (specularSub < 1 || specularSub > 8 || searchSpecularSub < 1 || searchSpecularSub > 8)
+    return fail("specularSub must be in [1, 8]");
+  if (restarts < 0 || restartProbeIterations < 1) return fail("bad restart settings");
+  if (!plateau.IsValid(error)) return false;
+  return true;
+}
+
+double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<cv::Point>& pixels, cv::Mat* grad) {
+  PS_Check(photo.type() == CV_32FC3 && render.type() == CV_32FC3 && photo.size() == render.size(),
+           "statLoss: photo and render must be CV_32FC3 of one size");
+  if (grad) {
+    grad->create(render.size(), CV_32FC3);
+    grad->setTo(cv::Scalar::all(0));
+  }
+  const double n = static_cast<double>(pixels.size());
+  if (n == 0) return 0.0;
+  double mp[3] = {0, 0, 0}, mr[3] = {0, 0, 0}, vp[3] = {0, 0, 0}, vr[3] = {0, 0, 0};
+  for (const cv::Point& p : pixels) {
+    const cv::Vec3f a = photo.at<cv::Vec3f>(p), b = render.at<cv::Vec3f>(p);
+    for (int c = 0; c < 3; ++c) mp[c] += a[c], mr[c] += b[c];
+  }
+  for (int c = 0; c < 3; ++c) mp[c] /= n, mr[c] /= n;
+  for (const cv::Point& p : pixels) {
+    const cv::Vec3f a = photo.at<cv::Vec3f>(p), b = render.at<cv::Vec3f>(p);
+    for (int c = 0; c < 3; ++c) vp[c] += (a[c] - mp[c]) * (a[c] - mp[c]), vr[c] += (b[c] - mr[c]) * (b[c] - mr[c]);
+  }
+  for (int c = 0; c < 3; ++c) vp[c] /= n, vr[c] /= n;
+  const double nu = std::max(1e-3, 0.2126 * mp[0] + 0.7152 * mp[1] + 0.0722 * mp[2]);
+  double loss = 0;
+  double sMean[3], sVar[3];
+  for (int c = 0; c < 3; ++c) {
+    loss += std::abs(mr[c] - mp[c]) / nu + std::abs(vr[c] - vp[c]) / (nu * nu);
+    sMean[c] = (mr[c] > mp[c] ? 1.0 : mr[c] < mp[c] ? -1.0 : 0.0) / (nu * n);
+    sVar[c] = (vr[c] > vp[c] ? 1.0 : vr[c] < vp[c] ? -1.0 : 0.0) / (nu * nu * n);
+  }
+  if (grad)
+    for (const cv::Point& p : pixels) {
+      const cv::Vec3f b = render.at<cv::Vec3f>(p);
+      cv::Vec3f& g = grad->at<cv::Vec3f>(p);
+      for (int c = 0; c < 3; ++c) g[c] = static_cast<float>(sMean[c] + sVar[c] * 2.0 * (b[c] - mr[c]));
+    }
+  return loss;
+}
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+struct FitState {
+  std::vector<float> values;  // graph values (raw)
+  float roughness = 0.5f;
+  UvParams uv;
+};
+
+class PartFitter {
+ public:
+  PartFitter(const MaterialGraph& g, const PartGeometry& geo, const cv::Mat& photo, const TextureLossTarget& target,
+             const PartFitOptions& o)
+      : graph_(g.clone()), geo_(geo), photo_(photo), target_(target), o_(o) {
+    const auto& params = graph_.parameters();
+    const int n = graph_.valueCount();
+    lo_.assign(n, 0.0f);
+    hi_.assign(n, 1.0f);
+    for (const GraphParameter& p : params)
+      for (int k = 0; k < p.dim; ++k) {
+        lo_[p.offset + k] = p.min;
+        hi_[p.offset + k] = p.max;
+      }
+    mask_ = graph_.differentiableMask();
+  }
+
+  struct Eval {
+    double loss = 0, stat = 0, tex = 0;
+  };
+
+  // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
+  Eval evaluate(const MaterialMaps& maps, const UvParams& uv, float roughness, int sub, RenderLayerGradients* grads,
+                cv::Mat* renderOut = nullptr) {
+    RenderLayerParams p;
+    p.geometry = &geo_;
+    p.albedo = maps.albedo;
+    p.normal = maps.normal;
+    p.roughnessValue = roughness;
+    p.uv = uv;
+    p.specularSub = sub;
+    renderLayerForward(p);
+    Eval e;
+    cv::Mat gStat;
+    e.stat = o_.statWeight > 0 ? statLoss(photo_, p.image, geo_.pixels, grads ? &gStat : nullptr) : 0.0;
+    if (o_.textureWeight > 0) {
+      TextureLossParams tp;
+      tp.target = &target_;
+      tp.render = p.image;
+      e.tex = textureLossForward(tp);
+      if (grads) {
+        cv::Mat gTex;
+        textureLossBackward(tp, o_.textureWeight, gTex);
+        if (gStat.empty()) gStat = gTex;
+        else gStat = gStat * o_.statWeight + gTex;
+      } else if (!gStat.empty()) {
+        gStat *= o_.statWeight;
+      }
+    } else if (grads) {
+      gStat *= o_.statWeight;
+    }
+    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex;
+    if (grads) renderLayerBackward(p, gStat, *grads);
+    if (renderOut) *renderOut = p.image;
+    return e;
+  }
+
+  MaterialMaps maps(const std::vector<float>& values) {
+    graph_.setValues(values);
+    return graph_.evaluate(o_.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+  }
+
+  float meanRoughness(const std::vector<float>& values) {
+    graph_.setValues(values);
+    const MaterialMaps m = graph_.evaluate(o_.mapSize, MapSet::of({MapKind::Roughness}));
+    return m.roughness.empty() ? 0.5f : static_cast<float>(cv::mean(m.roughness)[0]);
+  }
+
+  // Discrete UV search with the maps of `values`; returns the best transform and its loss.
+  UvParams search(const FitState& s, double* bestLoss, int* candidates) {
+    const MaterialMaps m = maps(s.values);
+    UvParams best = s.uv;
+    double bl = evaluate(m, s.uv, s.roughness, o_.searchSpecularSub, nullptr).loss;
+    ++*candidates;
+    auto tryUv = [&](const UvParams& uv) {
+      const double l = evaluate(m, uv, s.roughness, o_.searchSpecularSub, nullptr).loss;
+      ++*candidates;
+      if (l < bl) bl = l, best = uv;
+    };
+    const double rotStep = kTwoPi / o_.searchRotations;
+    const double lsStep = o_.searchLogScales > 1 ? (o_.logScaleMax - o_.logScaleMin) / (o_.searchLogScales - 1) : 0.0;
+    for (int i = 0; i < o_.searchRotations; ++i)
+      for (int j = 0; j < o_.searchLogScales; ++j)
+        for (int a = 0; a < o_.searchOffsets; ++a)
+          for (int b = 0; b < o_.searchOffsets; ++b) {
+            UvParams uv;
+            uv.rotation = static_cast<float>(i * rotStep);
+            uv.logScale = o_.searchLogScales > 1 ? static_cast<float>(o_.logScaleMin + j * lsStep)
+                                                 : s.uv.logScale;
+            uv.offset = o_.searchOffsets > 1 ? Vec2f(float(a) / o_.searchOffsets, float(b) / o_.searchOffsets) : s.uv.offset;
+            tryUv(uv);
+          }
+    // coarse to fine: halve the steps around the best
+    double rs = rotStep, ls = lsStep;
+    for (int r = 0; r < o_.refineSteps; ++r) {
+      rs *= 0.5;
+      ls *= 0.5;
+      const UvParams c = best;
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj) {
+          if (di == 0 && dj == 0) continue;
+          UvParams uv = c;
+          uv.rotation = static_cast<float>(c.rotation + di * rs);
+          uv.logScale = static_cast<float>(c.logScale + dj * ls);
+          tryUv(uv);
+        }
+    }
+    *bestLoss = bl;
+    return best;
+  }
+
+  // Runs up to `iterations` Adam steps from `s` (search first when `searchFirst`); returns the
+  // best state seen and its loss.
+  double run(FitState& s, int iterations, bool searchFirst, PartFitResult& res, bool record) {
+    const int n = graph_.valueCount();
+    const int N = n + 5;
+    std::vector<float> x(N), lower(N), upper(N), scales(N, 1.0f);
+    std::vector<uint8_t> mask(N, 1);
+    auto pack = [&](const FitState& st) {
+      for (int i = 0; i < n; ++i) {
+        const float r = hi_[i] - lo_[i];
+        x[i] = r > 0 ? (st.values[i] - lo_[i]) / r : 0.0f;
+        lower[i] = 0, upper[i] = 1;
+        mask[i] = mask_[i] && r > 0;
+      }
+      x[n] = st.roughness;
+      lower[n] = 0.02f, upper[n] = 1.0f;
+      x[n + 1] = st.uv.rotation, x[n + 2] = st.uv.logScale, x[n + 3] = st.uv.offset.x(), x[n + 4] = st.uv.offset.y();
+      for (int k = 1; k <= 4; ++k) {
+        lower[n + k] = -1e4f, upper[n + k] = 1e4f;
+        scales[n + k] = o_.uvLearningRate / o_.learningRate;
+        mask[n + k] = o_.fitUvContinuous ? 1 : 0;
+      }
+      lower[n + 2] = o_.logScaleMin - 1.0f, upper[n + 2] = o_.logScaleMax + 1.0f;
+    };
+    auto unpack = [&](FitState& st) {
+      std::vector<float> v(n);
+      for (int i = 0; i < n; ++i) v[i] = mask[i] ? lo_[i] + x[i] * (hi_[i] - lo_[i]) : st.values[i];
+      st.values = graph_.projectValues(v);
+      st.roughness = x[n];
+      st.uv.rotation = x[n + 1], st.uv.logScale = x[n + 2], st.uv.offset = Vec2f(x[n + 3], x[n + 4]);
+    };
+    pack(s);
+    Adam adam(N, AdamOptions{o_.learningRate});
+    adam.setBounds(lower, upper);
+    adam.setMask(mask);
+    adam.setScales(scales);
+    PlateauDetector plateau(o_.plateau);
+    FitState best = s;
+    double bestLoss = std::numeric_limits<double>::infinity();
+    for (int it = 0; it < iterations; ++it) {
+      const bool doSearch = (it == 0 && searchFirst) || (o_.uvSearchEvery > 0 && it > 0 && it % o_.uvSearchEvery == 0);
+      if (doSearch) {
+        double sl = 0;
+        const UvParams uv = search(s, &sl, &res.candidates);
+        ++res.searches;
+        if (uv.rotation != s.uv.rotation || uv.logScale != s.uv.logScale || uv.offset != s.uv.offset) {
+          s.uv = uv;
+          pack(s);
+          adam.reset();
+        }
+      }
+      const MaterialMaps m = maps(s.values);
+      RenderLayerGradients g;
+      const Eval e = evaluate(m, s.uv, s.roughness, o_.specularSub, &g);
+      if (record) res.history.push_back(e.loss);
+      if (e.loss < bestLoss) bestLoss = e.loss, best = s;
+      if (plateau.update(e.loss)) {
+        res.stoppedOnPlateau = true;
+        break;
+      }
+      MaterialMaps dm;
+      dm.albedo = g.albedo;
+      dm.normal = g.normal;
+      const std::vector<float> dv = graph_.backward(dm);
+      std::vector<float> grad(N, 0.0f);
+      for (int i = 0; i < n; ++i) grad[i] = dv[i] * (hi_[i] - lo_[i]);
+      grad[n] = g.roughnessValue;
+      grad[n + 1] = g.rotation, grad[n + 2] = g.logScale, grad[n + 3] = g.offset.x(), grad[n + 4] = g.offset.y();
+      adam.step(x, grad);
+      unpack(s);
+      ++res.iterations;
+    }
+    s = best;
+    return bestLoss;
+  }
+
+  MaterialGraph graph_;
+  const PartGeometry& geo_;
+  const cv::Mat& photo_;
+  const TextureLossTarget& target_;
+  PartFitOptions o_;
+  std::vector<float> lo_, hi_;
+  std::vector<uint8_t> mask_;
+};
+
+}  // namespace
+
+PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, const cv::Mat& photo,
+                      const TextureLossTarget& target, const PartFitOptions& options, const UvParams& initialUv) {
+  std::string err;
+  PS_Check(options.IsValid(&err), "fitPart: invalid options: " + err);
+  PS_Check(photo.type() == CV_32FC3 && photo.size() == geometry.imageSize, "fitPart: photo must be CV_32FC3 of the geometry's size");
+  PS_Check(target.imageSize() == geometry.imageSize, "fitPart: texture-loss target and geometry sizes differ");
+  PS_Check(geometry.size() > 0, "fitPart: the part has no pixels");
+  Timer timer;
+  PartFitter f(graph, geometry, photo, target, options);
+  PartFitResult res;
+  FitState start;
+  start.values = graph.values();
+  start.uv = initialUv;
+  const float meanR = f.meanRoughness(start.values);
+  start.roughness = clampv(meanR, 0.02f, 1.0f);
+  {
+    const PartFitter::Eval e0 = f.evaluate(f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
+    res.initialLoss = e0.loss;
+    res.initialTextureLoss = e0.tex;
+  }
+  FitState s = start;
+  int remaining = options.maxIterations;
+  if (options.restarts > 0 && options.maxIterations > options.restartProbeIterations) {
+    // probes: the start and `restarts` random draws, each a short run; the best is continued
+    double bestProbe = std::numeric_limits<double>::infinity();
+    FitState bestState = start;
+    for (int r = 0; r <= options.restarts; ++r) {
+      FitState p = start;
+      if (r > 0) p.values = graph.randomValues(options.seed + 7919 * r, options.restartSpread);
+      const double l = f.run(p, options.restartProbeIterations, true, res, false);
+      if (l < bestProbe) bestProbe = l, bestState = p;
+    }
+    s = bestState;
+    remaining -= options.restartProbeIterations;
+  }
+  f.run(s, remaining, options.restarts == 0, res, true);
+  const PartFitter::Eval e = f.evaluate(f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
+  res.values = s.values;
+  res.uv = s.uv;
+  res.roughness = s.roughness;
+  const float mr = f.meanRoughness(s.values);
+  res.roughnessScale = mr > 1e-4f ? s.roughness / mr : 1.0f;
+  res.loss = e.loss;
+  res.lossStat = e.stat;
+  res.lossTexture = e.tex;
+  res.seconds = timer.seconds();
+  return res;
+}
+
+}  // namespace ps
