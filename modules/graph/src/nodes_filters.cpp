@@ -502,51 +502,102 @@ struct DirectionalBlur {
              pCont("angle", -0.5f, 0.5f, 0, "direction in turns"),
              pInt("taps", 2, 64, 16, "samples")}};
   }
+  /// A tap's offset is the same for every pixel: integer shift (ix, iy) and bilinear fractions
+  /// (fx, fy) computed once per tap instead of a floor per pixel.
+  template <class T>
+  struct Tap {
+    int ix, iy;
+    T fx, fy;
+    Tap(T ax, T ay) {
+      const T flx = std::floor(ax), fly = std::floor(ay);
+      ix = static_cast<int>(flx), iy = static_cast<int>(fly);
+      fx = ax - flx, fy = ay - fly;
+    }
+  };
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    const int n = c.n, K = c.I(kTaps), ch = c.out[0]->c;
+    const int n = c.n, K = c.I(kTaps), ch = c.out[0]->c, m = n - 1;
     const T th = c.P(kAngle) * T(kTwoPi), L = c.P(kLength);
     const T ox = L * std::cos(th) * T(n), oy = -L * std::sin(th) * T(n);
+    const Plane<T>& in = *c.in[0];
     forRows(n, [&](int y) {
       T* o = c.out[0]->row(y);
       std::fill(o, o + n * ch, T(0));
-      T tmp[3];
       for (int k = 0; k < K; ++k) {
         const T t = T(k) / T(K - 1) - T(0.5);
+        const Tap<T> tp(t * ox, t * oy);
+        const T* r0 = in.row((y + tp.iy) & m);
+        const T* r1 = in.row((y + tp.iy + 1) & m);
+        const T fx = tp.fx, fy = tp.fy;
         for (int x = 0; x < n; ++x) {
-          sampleBilinear(*c.in[0], T(x) + t * ox, T(y) + t * oy, tmp);
-          for (int q = 0; q < ch; ++q) o[x * ch + q] += tmp[q] / T(K);
+          const int x0 = (x + tp.ix) & m, x1 = (x0 + 1) & m;
+          for (int q = 0; q < ch; ++q) {
+            const T a = r0[x0 * ch + q], b = r0[x1 * ch + q], cc = r1[x0 * ch + q], dd = r1[x1 * ch + q];
+            const T top = a + fx * (b - a), bot = cc + fx * (dd - cc);
+            o[x * ch + q] += (top + fy * (bot - top)) / T(K);
+          }
         }
       }
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, K = c.I(kTaps), ch = c.out[0]->c;
+    const int n = c.n, K = c.I(kTaps), ch = c.out[0]->c, m = n - 1;
     const T th = c.P(kAngle) * T(kTwoPi), L = c.P(kLength);
     const T cs = std::cos(th), sn = std::sin(th);
     const T ox = L * cs * T(n), oy = -L * sn * T(n);
+    const bool wantP = c.wantP(kLength) || c.wantP(kAngle);
+    const Plane<T>& in = *c.in[0];
     T dL = 0, dth = 0;
-    T tmp[3], gx[3], gy[3], gs[3];
-    for (int y = 0; y < n; ++y) {
-      const T* g = c.dOut[0]->row(y);
-      for (int k = 0; k < K; ++k) {
-        const T t = T(k) / T(K - 1) - T(0.5);
-        for (int x = 0; x < n; ++x) {
-          const T sx = T(x) + t * ox, sy = T(y) + t * oy;
-          sampleBilinear(*c.in[0], sx, sy, tmp, gx, gy);
-          T Dx = 0, Dy = 0;
-          for (int q = 0; q < ch; ++q) {
-            gs[q] = g[x * ch + q] / T(K);
-            Dx += gs[q] * gx[q];
-            Dy += gs[q] * gy[q];
+    for (int k = 0; k < K; ++k) {
+      const T t = T(k) / T(K - 1) - T(0.5);
+      const Tap<T> tp(t * ox, t * oy);
+      const T fx = tp.fx, fy = tp.fy;
+      const T w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
+      T tDx = 0, tDy = 0;  // sum over pixels of d loss / d sample position for this tap
+      for (int y = 0; y < n; ++y) {
+        const int y0 = (y + tp.iy) & m, y1 = (y0 + 1) & m, ym = (y0 - 1) & m;
+        const T* g = c.dOut[0]->row(y);
+        if (wantP) {
+          const T* r0 = in.row(y0);
+          const T* r1 = in.row(y1);
+          const T* rm = in.row(ym);
+          for (int x = 0; x < n; ++x) {
+            const int x0 = (x + tp.ix) & m, x1 = (x0 + 1) & m, xm = (x0 - 1) & m;
+            for (int q = 0; q < ch; ++q) {
+              const T a = r0[x0 * ch + q], b = r0[x1 * ch + q], cc = r1[x0 * ch + q], dd = r1[x1 * ch + q];
+              const T top = a + fx * (b - a), bot = cc + fx * (dd - cc);
+              // derivatives as sampleBilinear (central differences exactly on a pixel center)
+              T gx = (1 - fy) * (b - a) + fy * (dd - cc), gy = bot - top;
+              if (fx == T(0)) gx = T(0.5) * ((1 - fy) * (b - r0[xm * ch + q]) + fy * (dd - r1[xm * ch + q]));
+              if (fy == T(0)) {
+                const T um = rm[x0 * ch + q], umx = rm[x1 * ch + q];
+                gy = T(0.5) * (bot - (um + fx * (umx - um)));
+              }
+              const T gs = g[x * ch + q] / T(K);
+              tDx += gs * gx;
+              tDy += gs * gy;
+            }
           }
-          // d(sx)/dL = t cs n, d(sy)/dL = -t sn n; d(sx)/dth = -t L sn n, d(sy)/dth = -t L cs n
-          dL += t * T(n) * (Dx * cs - Dy * sn);
-          dth += -t * L * T(n) * (Dx * sn + Dy * cs);
-          if (c.dIn[0]) scatterBilinear(*c.dIn[0], sx, sy, gs);
+        }
+        if (c.dIn[0]) {
+          T* d0 = c.dIn[0]->row(y0);
+          T* d1 = c.dIn[0]->row(y1);
+          for (int x = 0; x < n; ++x) {
+            const int x0 = (x + tp.ix) & m, x1 = (x0 + 1) & m;
+            for (int q = 0; q < ch; ++q) {
+              const T gs = g[x * ch + q] / T(K);
+              d0[x0 * ch + q] += w00 * gs;
+              d0[x1 * ch + q] += w10 * gs;
+              d1[x0 * ch + q] += w01 * gs;
+              d1[x1 * ch + q] += w11 * gs;
+            }
+          }
         }
       }
+      // d(sx)/dL = t cs n, d(sy)/dL = -t sn n; d(sx)/dth = -t L sn n, d(sy)/dth = -t L cs n
+      dL += t * T(n) * (tDx * cs - tDy * sn);
+      dth += -t * L * T(n) * (tDx * sn + tDy * cs);
     }
     c.dP(kLength) += dL;
     c.dP(kAngle) += dth * T(kTwoPi);
