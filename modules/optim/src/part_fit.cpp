@@ -35,7 +35,7 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
   } else if (name == "fast") {
     o.maxIterations = 120;
     o.mapSize = 64;
-    o.uvSearchEvery = 0;
+    o.uvSearchEvery = 40;
     o.searchRotations = 12;
     o.searchLogScales = 7;
     o.searchOffsets = 1;
@@ -137,7 +137,7 @@ class PartFitter {
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
   Eval evaluate(const MaterialMaps& maps, const UvParams& uv, float roughness, int sub, RenderLayerGradients* grads,
-                cv::Mat* renderOut = nullptr) {
+                cv::Mat* renderOut = nullptr, bool matchMeans = false) {
     RenderLayerParams p;
     p.geometry = &geo_;
     p.albedo = maps.albedo;
@@ -146,6 +146,18 @@ class PartFitter {
     p.uv = uv;
     p.specularSub = sub;
     renderLayerForward(p);
+    if (matchMeans) {
+      // the search compares patterns, not colours: the render's masked channel means are scaled to
+      // the photo's first (the continuous fit then moves the colours)
+      double mr[3] = {0, 0, 0}, mp[3] = {0, 0, 0};
+      for (const cv::Point& q : geo_.pixels) {
+        const cv::Vec3f a = p.image.at<cv::Vec3f>(q), b = photo_.at<cv::Vec3f>(q);
+        for (int c = 0; c < 3; ++c) mr[c] += a[c], mp[c] += b[c];
+      }
+      const cv::Scalar gain(mr[0] > 1e-9 ? mp[0] / mr[0] : 1.0, mr[1] > 1e-9 ? mp[1] / mr[1] : 1.0,
+                            mr[2] > 1e-9 ? mp[2] / mr[2] : 1.0);
+      cv::multiply(p.image, gain, p.image);
+    }
     Eval e;
     cv::Mat gStat;
     e.stat = o_.statWeight > 0 ? statLoss(photo_, p.image, geo_.pixels, grads ? &gStat : nullptr) : 0.0;
@@ -186,10 +198,10 @@ class PartFitter {
   UvParams search(const FitState& s, double* bestLoss, int* candidates) {
     const MaterialMaps m = maps(s.values);
     UvParams best = s.uv;
-    double bl = evaluate(m, s.uv, s.roughness, o_.searchSpecularSub, nullptr).loss;
+    double bl = evaluate(m, s.uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
     ++*candidates;
     auto tryUv = [&](const UvParams& uv) {
-      const double l = evaluate(m, uv, s.roughness, o_.searchSpecularSub, nullptr).loss;
+      const double l = evaluate(m, uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
       ++*candidates;
       if (l < bl) bl = l, best = uv;
     };

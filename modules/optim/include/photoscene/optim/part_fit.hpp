@@ -39,7 +39,7 @@ struct PartFitOptions {
   int mapSize = 128;               ///< graph maps N x N (power of two)
   float learningRate = 0.02f;      ///< Adam, on parameters normalised to [0, 1]
   float uvLearningRate = 0.01f;    ///< Adam, on rotation (rad), log-scale and offsets
-  float statWeight = 1.0f;         ///< a
+  float statWeight = 0.1f;         ///< a
   float textureWeight = 1.0f;      ///< b
   bool fitUvContinuous = true;     ///< Adam also moves the UV transform between searches
   int uvSearchEvery = 50;          ///< iterations between discrete searches (0: only before the first)
