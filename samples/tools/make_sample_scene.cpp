@@ -289,17 +289,21 @@ int main(int argc, char** argv) {
   nlohmann::json gtLights = lightsJson;
   gtLights["area"][0]["radiance"] = {radiance0.x(), radiance0.y(), radiance0.z()};
   gtLights["area"][1]["radiance"] = {radiance1.x(), radiance1.y(), radiance1.z()};
+  // segment_parts pins the parts the photo shows (filled in once the labels are rendered)
   nlohmann::json segmentParts = nlohmann::json::object();
-  for (const Part& p : parts) segmentParts[std::to_string(1000 + p.id)] = p.name;
   const nlohmann::json viewJson = {{"image", "photos/view0.png"}, {"color_space", "srgb"},
                                    {"camera", io::cameraToJson(view0)}, {"segments", "segments/view0.png"},
                                    {"segment_parts", segmentParts}};
-  nlohmann::json twinView = viewJson;
-  twinView["image"] = "../../photos/view0.png";
-  twinView["segments"] = "../../segments/view0.png";
-  io::writeJsonFile(out / "gt/twin/scene.json", {{"version", 1}, {"geometry", "../../room_exact.obj"},
-                                                  {"up", {0, 1, 0}}, {"views", {twinView}}, {"lights", gtLights},
-                                                  {"options", {{"preset", "balanced"}, {"seed", 0}}}});
+  auto writeTwinScene = [&](const nlohmann::json& pinned) {
+    nlohmann::json twinView = viewJson;
+    twinView["image"] = "../../photos/view0.png";
+    twinView["segments"] = "../../segments/view0.png";
+    twinView["segment_parts"] = pinned;
+    io::writeJsonFile(out / "gt/twin/scene.json", {{"version", 1}, {"geometry", "../../room_exact.obj"},
+                                                    {"up", {0, 1, 0}}, {"views", {twinView}}, {"lights", gtLights},
+                                                    {"options", {{"preset", "balanced"}, {"seed", 0}}}});
+  };
+  writeTwinScene(segmentParts);
 
   // ---- the photo, the labels, the ground-truth renders
   // a placeholder photo of the right size lets loadTwin validate the scene before the real one exists
@@ -324,6 +328,9 @@ int main(int argc, char** argv) {
       if (p >= 0) labels.at<uint16_t>(y, x) = static_cast<uint16_t>(1000 + p);
     }
   io::writeRawImage(out / "segments/view0.png", labels);
+  for (const Part& p : parts)
+    if (cv::countNonZero(labels == 1000 + p.id) > 0) segmentParts[std::to_string(1000 + p.id)] = p.name;
+  writeTwinScene(segmentParts);
   const cv::Mat novel = tracer.render(camN, ro);
   io::writeImage(out / "gt/novel0.exr", novel, f32);
   io::writeImage(out / "gt/novel0.png", novel);
@@ -338,8 +345,10 @@ int main(int argc, char** argv) {
   io::writeImage(out / "gt/relit0.png", relitImg);
 
   // ---- the input scene.json: coarse geometry, lights to fit
+  nlohmann::json inputView = viewJson;
+  inputView["segment_parts"] = segmentParts;
   io::writeJsonFile(out / "scene.json", {{"version", 1}, {"geometry", "room.obj"}, {"up", {0, 1, 0}},
-                                         {"views", {viewJson}}, {"lights", lightsJson},
+                                         {"views", {inputView}}, {"lights", lightsJson},
                                          {"options", {{"preset", "balanced"}, {"seed", 0}}}});
   spdlog::info("sample scene written to {}", out.string());
   return 0;
