@@ -28,8 +28,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> presets = split(argc > 1 ? argv[1] : "fast,balanced");
   const std::vector<std::string> graphs = split(argc > 2 ? argv[2] : "wood_planks,tile_checker");
   const GraphLibrary lib = GraphLibrary::load();
-  std::printf("| graph | light | preset | seconds | iterations | candidates | texture loss start -> end | at truth | mean albedo err | rot err (deg, mod 180) | scale ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| graph | light | preset | seconds | iterations | candidates | texture loss start -> end | at truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& gname : graphs)
     for (float light : {12.0f, 30.0f}) {
       MaterialGraph truth = lib.create(gname);
@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
       m.albedoMap = FloatTexture(tm.albedo);
       m.normalMap = FloatTexture(tm.normal);
       m.roughnessMap = FloatTexture(tm.roughness);
+      m.specular = 0.5f;  // the layer's default: the truth is a dielectric with the graph's roughness map
       m.uv = uvTrue.toTransform();
       const PathTracer tracer(room.scene, mats);
       RenderOptions ro;
@@ -75,9 +76,10 @@ int main(int argc, char** argv) {
         const double aerr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
         double rot = degrees(r.uv.rotation - uvTrue.rotation);
         rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
-        std::printf("| %s | %.0f | %s | %.1f | %d | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.3f |\n", gname.c_str(), light,
+        const double rot90 = std::fmod(std::fmod(rot, 90.0) + 135.0, 90.0) - 45.0;  // square tiles
+        std::printf("| %s | %.0f | %s | %.1f | %d | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n", gname.c_str(), light,
                     preset.c_str(), r.seconds, r.iterations, r.candidates, r.initialTextureLoss, r.lossTexture,
-                    atTruth.initialTextureLoss, aerr, rot, std::exp(r.uv.logScale - uvTrue.logScale));
+                    atTruth.initialTextureLoss, aerr, rot, rot90, std::exp(r.uv.logScale - uvTrue.logScale));
         std::fflush(stdout);
       }
     }
