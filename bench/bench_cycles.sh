@@ -2,7 +2,7 @@
 # Our path tracer against Blender Cycles (CPU) on the same twin, resolution and spp (issue 3, "Benchmark").
 #
 #   bench/bench_cycles.sh [--build DIR] [--out DIR] [--twin DIR]... [--width W --height H]
-#                         [--spps "4 16 64"] [--ref-spp 512] [--threads 2]
+#                         [--spps "4 16 64"] [--ref-spp 512 | --ref REF.exr] [--threads 2]
 #
 # Needs ./build/bin/photoscene and ./build/bin/ps_bench_compare (cmake --build build --target photoscene
 # ps_bench_compare). Cycles runs only when `blender` is on PATH (bench/cycles/twin_to_blender.py);
@@ -13,7 +13,8 @@
 #   t        process wall seconds and CPU seconds (user + sys; includes loading, BVH, Blender start-up)
 #   rmse_ref RMSE (linear radiance) of the seed-1 render against OUR reference: noise + each renderer's
 #            bias against our model (Cycles' Principled BSDF differs from ours by a few %, see README)
-#   noise    pure noise, no reference needed: RMSE(seed 1, seed 2) / sqrt(2)
+#   noise    pure noise, no reference needed: RMSE(seed 1, seed 2) / sqrt(2); "top-1%": the share of
+#            its square in the 1 % of pixels with the largest difference (fireflies)
 #   eq-noise ratio = (noise_ours^2 cpu_ours) / (noise_cycles^2 cpu_cycles): the ratio of CPU times the two
 #            need for equal noise (variance ~ 1 / spp); < 0.5 meets the issue's target
 set -euo pipefail
@@ -25,6 +26,7 @@ W=320
 H=240
 SPPS="4 16 64"
 REF_SPP=512
+REF_FILE=""
 THREADS=2
 TWINS=()
 while [[ $# -gt 0 ]]; do
@@ -36,6 +38,7 @@ while [[ $# -gt 0 ]]; do
     --height) H="$2"; shift 2 ;;
     --spps) SPPS="$2"; shift 2 ;;
     --ref-spp) REF_SPP="$2"; shift 2 ;;
+    --ref) REF_FILE="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;  # reuse a reference (one twin)
     --threads) THREADS="$2"; shift 2 ;;
     -h|--help) sed -n 2,22p "$0"; exit 0 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
@@ -68,15 +71,15 @@ run() {
 kv() { sed -n "s/.*\b$1=\([^ ]*\).*/\1/p"; }
 
 ours() {  # ours SPP SEED OUTFILE
-  run "$4.log" "$PS" render "$TWIN" --spp "$1" --seed "$2" --width "$W" --height "$H" --threads "$THREADS" -o "$4"
+  run "$3.log" "$PS" render "$TWIN" --spp "$1" --seed "$2" --width "$W" --height "$H" --threads "$THREADS" -o "$3"
   # "render X: WxH at N spp in S s (R Mrays/s)": rays = S * R
-  OUR_RAYS=$(sed -n 's/.* in \([0-9.]*\)s (\([0-9.]*\) Mrays\/s).*/\1 \2/p' "$4.log" | awk '{printf "%.3f", $1 * $2}')
-  OUR_RENDER_S=$(sed -n 's/.* in \([0-9.]*\)s (.*/\1/p' "$4.log")
+  OUR_RAYS=$(sed -n 's/.* in \([0-9.]*\)s (\([0-9.]*\) Mrays\/s).*/\1 \2/p' "$3.log" | awk '{printf "%.3f", $1 * $2}')
+  OUR_RENDER_S=$(sed -n 's/.* in \([0-9.]*\)s (.*/\1/p' "$3.log")
 }
 cycles() {  # cycles SPP SEED OUTFILE
-  run "$4.log" blender --background --factory-startup --python "$ROOT/bench/cycles/twin_to_blender.py" -- \
-      --twin "$TWIN" --out "$4" --spp "$1" --seed "$2" --width "$W" --height "$H" --threads "$THREADS"
-  CY_RENDER_S=$(sed -n 's/^CYCLES_RENDER_SECONDS \(.*\)/\1/p' "$4.log")
+  run "$3.log" blender --background --factory-startup --python "$ROOT/bench/cycles/twin_to_blender.py" -- \
+      --twin "$TWIN" --out "$3" --spp "$1" --seed "$2" --width "$W" --height "$H" --threads "$THREADS"
+  CY_RENDER_S=$(sed -n 's/^CYCLES_RENDER_SECONDS \(.*\)/\1/p' "$3.log")
 }
 
 echo "# photoscene path tracer vs Blender Cycles ($(date -u +%Y-%m-%dT%H:%MZ))"
@@ -90,8 +93,13 @@ for TWIN in "${TWINS[@]}"; do
   D="$OUT/$name"; mkdir -p "$D"
   echo
   echo "## $TWIN"
-  ours "$REF_SPP" 0 "$D/ref_ours.exr"
-  echo "reference: ours $REF_SPP spp: wall ${T_WALL}s, CPU ${T_CPU}s, $(awk -v r="$OUR_RAYS" -v c="$T_CPU" 'BEGIN{printf "%.2f", r / c}') Mrays per CPU-s"
+  if [[ -n "$REF_FILE" ]]; then
+    [[ "$REF_FILE" -ef "$D/ref_ours.exr" ]] || cp "$REF_FILE" "$D/ref_ours.exr"
+    echo "reference: $REF_FILE (reused)"
+  else
+    ours "$REF_SPP" 0 "$D/ref_ours.exr"
+    echo "reference: ours $REF_SPP spp: wall ${T_WALL}s, CPU ${T_CPU}s, $(awk -v r="$OUR_RAYS" -v c="$T_CPU" 'BEGIN{printf "%.2f", r / c}') Mrays per CPU-s"
+  fi
   ROWS=()
   for N in $SPPS; do
     ours "$N" 1 "$D/ours_${N}_s1.exr"; ow=$T_WALL; oc=$T_CPU; orays=$OUR_RAYS; ors=$OUR_RENDER_S
@@ -100,6 +108,7 @@ for TWIN in "${TWINS[@]}"; do
     o_pair=$("$CMP" "$D/ours_${N}_s1.exr" "$D/ours_${N}_s2.exr")
     o_rmse=$(kv rmse <<<"$o_ref"); o_noise=$(awk -v r="$(kv rmse <<<"$o_pair")" 'BEGIN{printf "%.5f", r / sqrt(2)}')
     o_noisec=$(awk -v r="$(kv rmse_clip1 <<<"$o_pair")" 'BEGIN{printf "%.5f", r / sqrt(2)}')
+    o_top=$(kv top1_share <<<"$o_pair")
     o_mrays=$(awk -v r="$orays" -v c="$oc" 'BEGIN{printf "%.2f", r / c}')
     if [[ $HAVE_BLENDER -eq 1 ]]; then
       cycles "$N" 1 "$D/cycles_${N}_s1.exr"; cw=$T_WALL; cc=$T_CPU; crs=$CY_RENDER_S
@@ -109,18 +118,19 @@ for TWIN in "${TWINS[@]}"; do
       c_rmse=$(kv rmse <<<"$c_ref"); c_noise=$(awk -v r="$(kv rmse <<<"$c_pair")" 'BEGIN{printf "%.5f", r / sqrt(2)}')
       c_noisec=$(awk -v r="$(kv rmse_clip1 <<<"$c_pair")" 'BEGIN{printf "%.5f", r / sqrt(2)}')
       c_ratio=$(kv mean_ratio <<<"$c_ref")
+      c_top=$(kv top1_share <<<"$c_pair")
       ratio=$(awk -v a="$oc" -v b="$cc" 'BEGIN{printf "%.2f", a / b}')
       eq=$(awk -v no="$o_noise" -v to="$oc" -v nc="$c_noise" -v tc="$cc" 'BEGIN{printf "%.2f", no * no * to / (nc * nc * tc)}')
       eqc=$(awk -v no="$o_noisec" -v to="$oc" -v nc="$c_noisec" -v tc="$cc" 'BEGIN{printf "%.2f", no * no * to / (nc * nc * tc)}')
     else
-      cw=skipped; cc=skipped; crs=-; c_rmse=-; c_noise=-; c_noisec=-; c_ratio=-; ratio=-; eq=-; eqc=-
+      cw=skipped; cc=skipped; crs=-; c_rmse=-; c_noise=-; c_noisec=-; c_ratio=-; c_top=-; ratio=-; eq=-; eqc=-
     fi
-    ROWS+=("| $N | $ow / $oc ($ors) | $cw / $cc ($crs) | $ratio | $o_rmse | $c_rmse | $o_noise | $c_noise | $eq | $eqc | $o_mrays | $c_ratio |")
+    ROWS+=("| $N | $ow / $oc ($ors) | $cw / $cc ($crs) | $ratio | $o_rmse | $c_rmse | $o_noise | $c_noise | $o_top / $c_top | $eq | $eqc | $o_mrays | $c_ratio |")
     echo "spp $N done (ours CPU ${oc}s, cycles CPU ${cc}s)" >&2
   done
   echo
-  echo "| spp | ours wall / CPU s (render wall) | Cycles wall / CPU s (render wall) | CPU ratio ours/Cycles | RMSE ours vs ref | RMSE Cycles vs ref | noise ours | noise Cycles | equal-noise CPU ratio | same, clipped to 1 | ours Mrays per CPU-s | Cycles mean / ref mean |"
-  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  echo "| spp | ours wall / CPU s (render wall) | Cycles wall / CPU s (render wall) | CPU ratio ours/Cycles | RMSE ours vs ref | RMSE Cycles vs ref | noise ours | noise Cycles | top-1% share of noise ours / Cycles | equal-noise CPU ratio | same, clipped to 1 | ours Mrays per CPU-s | Cycles mean / ref mean |"
+  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
   printf '%s\n' "${ROWS[@]}"
 done
 echo

@@ -5,7 +5,12 @@
 //   rmse_clip1  the same on min(x, 1) (display range: the emitters' 30x radiance does not dominate)
 //   rel_l1      sum |a - b| / sum |b| over N x N-pixel box-filtered images (the Cycles test's metric)
 //   mean_ratio  mean(a) / mean(b)
+//   top1_share  share of the squared error in the 1 % of pixels with the largest error (fireflies)
 #include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <functional>
+#include <vector>
 
 #include <cmath>
 #include <cstdio>
@@ -31,10 +36,15 @@ int main(int argc, char** argv) {
       b = r;
     }
     double se = 0, seClip = 0, sa = 0, sb = 0;
+    std::vector<double> pixSe;
+    pixSe.reserve(a.total());
     const double n = static_cast<double>(a.total()) * 3.0;
     for (int y = 0; y < a.rows; ++y)
       for (int x = 0; x < a.cols; ++x) {
         const cv::Vec3f pa = a.at<cv::Vec3f>(y, x), pb = b.at<cv::Vec3f>(y, x);
+        double p = 0;
+        for (int k = 0; k < 3; ++k) p += (pa[k] - pb[k]) * (pa[k] - pb[k]);
+        pixSe.push_back(p);
         for (int k = 0; k < 3; ++k) {
           const double d = pa[k] - pb[k];
           const double dc = std::min(pa[k], 1.f) - std::min(pb[k], 1.f);
@@ -54,8 +64,13 @@ int main(int argc, char** argv) {
           num += std::abs(ab.at<cv::Vec3f>(y, x)[k] - bb.at<cv::Vec3f>(y, x)[k]);
           den += std::abs(bb.at<cv::Vec3f>(y, x)[k]);
         }
-    std::printf("rmse=%.6f rmse_clip1=%.6f rel_l1=%.5f mean_ratio=%.5f mean_a=%.5f mean_b=%.5f size=%dx%d\n",
-                std::sqrt(se / n), std::sqrt(seClip / n), num / den, sa / sb, sa / n, sb / n, a.cols, a.rows);
+    const size_t top = std::max<size_t>(1, pixSe.size() / 100);
+    std::nth_element(pixSe.begin(), pixSe.begin() + top, pixSe.end(), std::greater<double>());
+    double seTop = 0;
+    for (size_t i = 0; i < top; ++i) seTop += pixSe[i];
+    std::printf("rmse=%.6f rmse_clip1=%.6f rel_l1=%.5f mean_ratio=%.5f top1_share=%.3f mean_a=%.5f mean_b=%.5f size=%dx%d\n",
+                std::sqrt(se / n), std::sqrt(seClip / n), num / den, sa / sb, se > 0 ? seTop / se : 0.0, sa / n, sb / n,
+                a.cols, a.rows);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
