@@ -460,12 +460,18 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   const float* L = &geo.light[static_cast<size_t>(k) * geo.bins * 3];
   const float dOm = geo.binSolidAngle;
 
-  // diffuse
+  // diffuse (with gradients, d/dn is accumulated in the same pass)
+  const float kd0 = (1 - m) * kInvPi * dOm;
+  const Vec3f gOut = wantGrad ? *gradOut : Vec3f::Zero();
+  const float wA[3] = {gOut[0] * Ac[0] * kd0, gOut[1] * Ac[1] * kd0, gOut[2] * Ac[2] * kd0};
+  const bool nGrad = wantGrad && nFree;
+  Vec3f gnDiffuse = Vec3f::Zero();
   double E[3] = {0, 0, 0};
   for (int b = 0; b < geo.bins; ++b) {
     const float c = n.dot(geo.binDir[b]);
     if (c <= 0) continue;
     for (int ch = 0; ch < 3; ++ch) E[ch] += L[b * 3 + ch] * c;
+    if (nGrad) gnDiffuse += (wA[0] * L[b * 3] + wA[1] * L[b * 3 + 1] + wA[2] * L[b * 3 + 2]) * geo.binDir[b];
   }
   Vec3f I;
   const float kd = (1 - m) * kInvPi * dOm;
@@ -476,8 +482,11 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   KEval K{0, 0, 0};
   const float cO = n.dot(wo);
   const float dOs = ws.subSolidAngle;
+  Vec3f gnSpec = Vec3f::Zero();
+  float gAlphaSpec = 0;
   if (!noSpec) {
     K = kTerm(cO, alpha);
+    const float kq = K.k * dOs;
     for (size_t q = 0; q < ws.subDir.size(); ++q) {
       const int b = ws.subBin[q];
       const float* Lb = L + b * 3;
@@ -493,11 +502,26 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
       if (cH <= 0) continue;
       const float mm = clampv(1.0f - wo.dot(h), 0.0f, 1.0f);
       const float fc = mm * mm * mm * mm * mm;
-      const float DG = ggxDd(cH, alpha).d * smithG1d(cI, alpha).g;
+      if (!wantGrad) {
+        const float DG = ggxDd(cH, alpha).d * smithG1d(cI, alpha).g;
+        for (int ch = 0; ch < 3; ++ch) {
+          S1[ch] += Lb[ch] * DG * (1 - fc);
+          S2[ch] += Lb[ch] * DG * fc;
+        }
+        continue;
+      }
+      const DEval D = ggxDd(cH, alpha);
+      const G1Eval G = smithG1d(cI, alpha);
+      const float DG = D.d * G.g;
+      float wq = 0;
       for (int ch = 0; ch < 3; ++ch) {
         S1[ch] += Lb[ch] * DG * (1 - fc);
         S2[ch] += Lb[ch] * DG * fc;
+        wq += gOut[ch] * Lb[ch] * (F0[ch] * (1 - fc) + f90 * fc);
       }
+      wq *= kq;
+      if (nGrad) gnSpec += wq * (D.dc * G.g * h + D.d * G.dc * d);
+      gAlphaSpec += wq * (D.da * G.g + D.d * G.da);
     }
     for (int ch = 0; ch < 3; ++ch) I[ch] += static_cast<float>(K.k * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]));
   }
@@ -515,15 +539,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     gAc[ch] += g[ch] * kd * static_cast<float>(E[ch]);
     gM += -g[ch] * kInvPi * dOm * Ac[ch] * static_cast<float>(E[ch]);
   }
-  if (nFree) {
-    const float wA[3] = {g[0] * Ac[0] * kd, g[1] * Ac[1] * kd, g[2] * Ac[2] * kd};
-    for (int b = 0; b < geo.bins; ++b) {
-      const float c = n.dot(geo.binDir[b]);
-      if (c <= 0) continue;
-      const float s = wA[0] * L[b * 3] + wA[1] * L[b * 3 + 1] + wA[2] * L[b * 3 + 2];
-      gn += s * geo.binDir[b];
-    }
-  }
+  gn += gnDiffuse;
   if (!noSpec) {
     float gK = 0;
     for (int ch = 0; ch < 3; ++ch) {
@@ -534,29 +550,8 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     }
     if (nFree) gn += gK * K.dc * wo;
     gAlpha += gK * K.da;
-    for (size_t q = 0; q < ws.subDir.size(); ++q) {
-      const int b = ws.subBin[q];
-      const float* Lb = L + b * 3;
-      if (Lb[0] <= 0 && Lb[1] <= 0 && Lb[2] <= 0) continue;
-      const Vec3f& d = ws.subDir[q];
-      const float cI = n.dot(d);
-      if (cI <= 0) continue;
-      Vec3f h = wo + d;
-      const float hl = h.norm();
-      if (!(hl > 1e-8f)) continue;
-      h /= hl;
-      const float cH = n.dot(h);
-      if (cH <= 0) continue;
-      const float mm = clampv(1.0f - wo.dot(h), 0.0f, 1.0f);
-      const float fc = mm * mm * mm * mm * mm;
-      float wq = 0;
-      for (int ch = 0; ch < 3; ++ch) wq += g[ch] * Lb[ch] * (F0[ch] * (1 - fc) + f90 * fc);
-      wq *= K.k * dOs;
-      const DEval D = ggxDd(cH, alpha);
-      const G1Eval G = smithG1d(cI, alpha);
-      if (nFree) gn += wq * (D.dc * G.g * h + D.d * G.dc * d);
-      gAlpha += wq * (D.da * G.g + D.d * G.da);
-    }
+    gn += gnSpec;
+    gAlpha += gAlphaSpec;
     // F0 = clamp(f0d (1 - m) + A m), F90 = min(1, 50 F0_g)
     if (50.0f * F0[1] < 1.0f) gF0[1] += 50.0f * gF90;
     for (int ch = 0; ch < 3; ++ch) {
