@@ -6,7 +6,7 @@
 #
 # Needs ./build/bin/photoscene and ./build/bin/ps_bench_compare (cmake --build build --target photoscene
 # ps_bench_compare). Cycles runs only when `blender` is on PATH (bench/cycles/twin_to_blender.py);
-# otherwise its columns say "skipped".
+# otherwise its columns say "skipped". BLENDER=/path/to/blender picks another binary (BLENDER=none: skip).
 #
 # Per twin: a high-spp reference with our path tracer (seed 0); then at each spp two renders of
 # each renderer with seeds 1 and 2. Reported:
@@ -56,7 +56,8 @@ for exe in "$PS" "$CMP"; do
 done
 if [[ ${#TWINS[@]} -eq 0 ]]; then echo "no twin folder found (pass --twin DIR)"; exit 0; fi
 HAVE_BLENDER=0
-if command -v blender >/dev/null 2>&1; then HAVE_BLENDER=1; fi
+BLENDER="${BLENDER:-blender}"
+if command -v "$BLENDER" >/dev/null 2>&1; then HAVE_BLENDER=1; fi
 mkdir -p "$OUT"
 
 # run LOG CMD...: runs CMD with its output in LOG; sets T_WALL, T_CPU (user + sys of the process tree)
@@ -77,7 +78,7 @@ ours() {  # ours SPP SEED OUTFILE
   OUR_RENDER_S=$(sed -n 's/.* in \([0-9.]*\)s (.*/\1/p' "$3.log")
 }
 cycles() {  # cycles SPP SEED OUTFILE
-  run "$3.log" blender --background --factory-startup --python "$ROOT/bench/cycles/twin_to_blender.py" -- \
+  run "$3.log" "$BLENDER" --background --factory-startup --python "$ROOT/bench/cycles/twin_to_blender.py" -- \
       --twin "$TWIN" --out "$3" --spp "$1" --seed "$2" --width "$W" --height "$H" --threads "$THREADS"
   CY_RENDER_S=$(sed -n 's/^CYCLES_RENDER_SECONDS \(.*\)/\1/p' "$3.log")
 }
@@ -85,7 +86,7 @@ cycles() {  # cycles SPP SEED OUTFILE
 echo "# photoscene path tracer vs Blender Cycles ($(date -u +%Y-%m-%dT%H:%MZ))"
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'); load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "resolution ${W}x${H}, threads $THREADS, spp {$SPPS}, reference: ours at $REF_SPP spp"
-[[ $HAVE_BLENDER -eq 1 ]] && echo "cycles: $(blender --version 2>/dev/null | head -1)" || echo "cycles: skipped (blender not on PATH)"
+[[ $HAVE_BLENDER -eq 1 ]] && echo "cycles: $("$BLENDER" --version 2>/dev/null | head -1)" || echo "cycles: skipped (blender not on PATH)"
 
 for TWIN in "${TWINS[@]}"; do
   TWIN="$(cd "$TWIN" && pwd)"
@@ -126,7 +127,7 @@ for TWIN in "${TWINS[@]}"; do
       cw=skipped; cc=skipped; crs=-; c_rmse=-; c_noise=-; c_noisec=-; c_ratio=-; c_top=-; ratio=-; eq=-; eqc=-
     fi
     ROWS+=("| $N | $ow / $oc ($ors) | $cw / $cc ($crs) | $ratio | $o_rmse | $c_rmse | $o_noise | $c_noise | $o_top / $c_top | $eq | $eqc | $o_mrays | $c_ratio |")
-    echo "spp $N done (ours CPU ${oc}s, cycles CPU ${cc}s)" >&2
+    echo "spp $N done (ours CPU ${oc} s, cycles CPU ${cc} s)" >&2
   done
   echo
   echo "| spp | ours wall / CPU s (render wall) | Cycles wall / CPU s (render wall) | CPU ratio ours/Cycles | RMSE ours vs ref | RMSE Cycles vs ref | noise ours | noise Cycles | top-1% share of noise ours / Cycles | equal-noise CPU ratio | same, clipped to 1 | ours Mrays per CPU-s | Cycles mean / ref mean |"
