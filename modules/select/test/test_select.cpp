@@ -88,14 +88,15 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
 
 TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
   // Issue 5 asks for top-1 >= 60% and category >= 85% on this protocol; the texture key with the
-  // discriminant projection reaches about 45% / 50-55% (chance: 1.7% / 6%). The assertions hold
-  // the level reached so that a regression fails; the gap is documented in the README.
+  // discriminant projection reaches about 59% / 66% (chance: 1.7% / 6%; 295 draws, so about +-3%).
+  // The assertions hold the level reached, less three standard deviations, so that a regression
+  // fails; the gap to the target is documented in the README.
   const ExemplarBank& b = bank();
   ASSERT_EQ(b.rows(), library().size() * 10 * 2);
   const SelectionReport r = evaluateSelection(b, library(), ExemplarBankOptions{});
   std::printf("%s", r.table().c_str());
-  EXPECT_GE(r.top1Accuracy(), 0.35);
-  EXPECT_GE(r.categoryAccuracy(), 0.42);
+  EXPECT_GE(r.top1Accuracy(), 0.50);
+  EXPECT_GE(r.categoryAccuracy(), 0.57);
 }
 
 TEST(Select_Rules, homogeneous_threshold_scales_with_resolution) {
