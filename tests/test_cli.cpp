@@ -34,17 +34,7 @@ Result runPhotoscene(const std::string& args) {
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-Mat4d lookAt(const Vec3d& eye, const Vec3d& target) {
-  const Vec3d f = (target - eye).normalized();
-  const Vec3d r = f.cross(Vec3d(0, 1, 0)).normalized();
-  const Vec3d d = f.cross(r);
-  Mat4d m = Mat4d::Identity();
-  m.row(0).head<3>() = r;
-  m.row(1).head<3>() = d;
-  m.row(2).head<3>() = f;
-  m.block<3, 1>(0, 3) = -m.topLeftCorner<3, 3>() * eye;
-  return m;
-}
+Mat4d lookAt(const Vec3d& eye, const Vec3d& target) { return io::lookAtWorldToCamera(eye, target); }
 
 /// A small valid scene in a temp folder: a 4 x 2.5 x 3 m room with floor and walls parts.
 struct CliScene {

@@ -77,27 +77,8 @@ struct MaterialSpec {
   Vec2f offset;
 };
 
-Mat4d lookAt(const Vec3d& eye, const Vec3d& target) {
-  const Vec3d f = (target - eye).normalized();
-  const Vec3d r = f.cross(Vec3d(0, 1, 0)).normalized();
-  const Vec3d d = f.cross(r);
-  Mat4d m = Mat4d::Identity();
-  m.row(0).head<3>() = r;
-  m.row(1).head<3>() = d;
-  m.row(2).head<3>() = f;
-  m.block<3, 1>(0, 3) = -m.topLeftCorner<3, 3>() * eye;
-  return m;
-}
-
 io::CameraDesc camera(int w, int h, double fovYDeg, const Vec3d& eye, const Vec3d& target) {
-  io::CameraDesc c;
-  c.width = w;
-  c.height = h;
-  c.fy = c.fx = 0.5 * h / std::tan(0.5 * fovYDeg * kPiD / 180.0);
-  c.cx = 0.5 * w - 0.5;
-  c.cy = 0.5 * h - 0.5;
-  c.worldToCamera = lookAt(eye, target);
-  return c;
+  return io::lookAtCamera(w, h, fovYDeg, eye, target);
 }
 
 nlohmann::json rectJson(const Vec3f& center, const Vec3f& u, const Vec3f& v) {

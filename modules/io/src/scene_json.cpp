@@ -100,6 +100,35 @@ AreaLightDesc parseAreaLight(const JsonValue& a, bool radianceRequired) {
 
 }  // namespace
 
+Mat4d lookAtWorldToCamera(const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
+  Vec3d forward = target - eye;
+  PS_Check(forward.norm() > 1e-12, "lookAtWorldToCamera: target equals eye");
+  forward.normalize();
+  Vec3d right = forward.cross(up);
+  PS_Check(right.norm() > 1e-9, "lookAtWorldToCamera: view direction parallel to up");
+  right.normalize();
+  const Vec3d down = forward.cross(right);
+  Mat4d m = Mat4d::Identity();
+  m.block<1, 3>(0, 0) = right.transpose();
+  m.block<1, 3>(1, 0) = down.transpose();
+  m.block<1, 3>(2, 0) = forward.transpose();
+  m.topRightCorner<3, 1>() = -m.topLeftCorner<3, 3>() * eye;
+  return m;
+}
+
+CameraDesc lookAtCamera(int width, int height, double fovYDeg, const Vec3d& eye, const Vec3d& target,
+                        const Vec3d& up) {
+  CameraDesc cam;
+  cam.width = width;
+  cam.height = height;
+  cam.worldToCamera = lookAtWorldToCamera(eye, target, up);
+  cam.fy = 0.5 * height / std::tan(0.5 * fovYDeg * kPiD / 180.0);
+  cam.fx = cam.fy;
+  cam.cx = 0.5 * width - 0.5;
+  cam.cy = 0.5 * height - 0.5;
+  return cam;
+}
+
 CameraDesc parseCamera(const JsonValue& c) {
   if (!c.isObject()) c.fail("a camera object");
   warnUnknownKeys(c, {"width", "height", "fx", "fy", "cx", "cy", "world_to_camera", "position",
@@ -127,24 +156,11 @@ CameraDesc parseCamera(const JsonValue& c) {
   const JsonValue fovValue = c["fov_y_deg"];
   const double fov = fovValue.number();
   if (!(fov > 0.01 && fov < 179.0)) fovValue.fail("a vertical field of view in (0, 179) degrees");
-  Vec3d forward = target - position;
-  if (forward.norm() < 1e-12) lookAtValue.failMessage("expected look_at different from position");
-  forward.normalize();
-  Vec3d right = forward.cross(up);
-  if (right.norm() < 1e-9) lookAtValue.failMessage("expected a view direction not parallel to up");
-  right.normalize();
-  const Vec3d down = forward.cross(right);
-  Mat3d r;
-  r.row(0) = right;
-  r.row(1) = down;
-  r.row(2) = forward;
-  cam.worldToCamera.setIdentity();
-  cam.worldToCamera.topLeftCorner<3, 3>() = r;
-  cam.worldToCamera.topRightCorner<3, 1>() = -r * position;
-  cam.fy = 0.5 * cam.height / std::tan(0.5 * fov * kPiD / 180.0);
-  cam.fx = cam.fy;
-  cam.cx = 0.5 * cam.width - 0.5;
-  cam.cy = 0.5 * cam.height - 0.5;
+  if ((target - position).norm() < 1e-12) lookAtValue.failMessage("expected look_at different from position");
+  if ((target - position).normalized().cross(up).norm() < 1e-9)
+    lookAtValue.failMessage("expected a view direction not parallel to up");
+  const CameraDesc built = lookAtCamera(cam.width, cam.height, fov, position, target, up);
+  cam = built;
   return cam;
 }
 

@@ -13,15 +13,7 @@
 namespace ps::testroom {
 
 inline Mat4d lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
-  const Vec3d f = (target - eye).normalized();
-  const Vec3d r = f.cross(up).normalized();
-  const Vec3d d = f.cross(r);
-  Mat4d m = Mat4d::Identity();
-  m.row(0).head<3>() = r;
-  m.row(1).head<3>() = d;
-  m.row(2).head<3>() = f;
-  m.block<3, 1>(0, 3) = -m.topLeftCorner<3, 3>() * eye;
-  return m;
+  return io::lookAtWorldToCamera(eye, target, up);
 }
 
 inline int addPart(Scene& s, const std::string& name) {

@@ -93,6 +93,15 @@ struct SceneDesc {
 /// Cross-checks that need other files (image sizes, part names) are the scene module's.
 SceneDesc readSceneJson(const fs::path& path);
 
+/// The world_to_camera (OpenCV axes: x right, y down, z forward) of a camera at `eye` looking at
+/// `target`, with `up` pointing roughly up in the image. Throws ps::Exception when target equals
+/// eye or the view direction is parallel to up.
+Mat4d lookAtWorldToCamera(const Vec3d& eye, const Vec3d& target, const Vec3d& up = Vec3d(0, 1, 0));
+/// The camera of the look-at form: fx = fy = (height / 2) / tan(fovYDeg / 2), principal point at
+/// the image center ((width - 1) / 2, (height - 1) / 2).
+CameraDesc lookAtCamera(int width, int height, double fovYDeg, const Vec3d& eye, const Vec3d& target,
+                        const Vec3d& up = Vec3d(0, 1, 0));
+
 /// Parses one camera object (either form). `where` is the key path used in messages.
 CameraDesc parseCamera(const JsonValue& camera);
 /// Reads a CAMERA.json file holding one camera object.
