@@ -9,43 +9,15 @@
 #include "photoscene/raytrace.hpp"
 #include "photoscene/render.hpp"
 #include "photoscene/scene.hpp"
+#include "../../raytrace/test/test_scenes.hpp"
 
 namespace ps::testroom {
 
-inline Mat4d lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
-  return io::lookAtWorldToCamera(eye, target, up);
-}
-
-inline int addPart(Scene& s, const std::string& name) {
-  Part p;
-  p.name = name;
-  p.id = static_cast<int>(s.parts.size());
-  s.parts.push_back(p);
-  return p.id;
-}
-
-inline void addTriangle(Mesh& m, const Vec3f& a, const Vec3f& b, const Vec3f& c, int part, const Vec2f& ua,
-                        const Vec2f& ub, const Vec2f& uc) {
-  const int base = static_cast<int>(m.positions.size());
-  m.positions.push_back(a);
-  m.positions.push_back(b);
-  m.positions.push_back(c);
-  m.triangles.emplace_back(base, base + 1, base + 2);
-  Vec3f n = (b - a).cross(c - a);
-  n = n.norm() > 0 ? Vec3f(n.normalized()) : Vec3f(0, 0, 1);
-  for (int k = 0; k < 3; ++k) m.cornerNormals.push_back(n);
-  m.cornerUvs.push_back(ua);
-  m.cornerUvs.push_back(ub);
-  m.cornerUvs.push_back(uc);
-  m.partIds.push_back(part);
-  m.generatedUv.push_back(0);
-}
-
-/// Quad p, p + eu, p + eu + ev, p + ev (normal along eu x ev), uv = (0,0)..(su, sv).
-inline void addQuad(Mesh& m, const Vec3f& p, const Vec3f& eu, const Vec3f& ev, int part, float su = 1, float sv = 1) {
-  addTriangle(m, p, p + eu, p + eu + ev, part, Vec2f(0, 0), Vec2f(su, 0), Vec2f(su, sv));
-  addTriangle(m, p, p + eu + ev, p + ev, part, Vec2f(0, 0), Vec2f(su, sv), Vec2f(0, sv));
-}
+// the mesh-building helpers of the raytrace tests
+using ps::test::addPart;
+using ps::test::addQuad;
+using ps::test::addTriangle;
+using ps::test::lookAt;
 
 struct Room {
   Scene scene;
