@@ -26,8 +26,9 @@ void runPipeline(const RunArgs& args) {
   spdlog::info("{}: valid ({} parts, {} views, {} area lights)", args.scene, scene.parts.size(),
                scene.views.size(), scene.lights.area.size());
   throw NotBuiltYet(
-      "run: the material-fitting pipeline (render layer, alignment, graph selection, lighting; "
-      "issues 4-6) is not built yet; nothing was written to " + args.out);
+      "run: the pipeline that chains the stages into an output folder (issue 6) is not built yet; "
+      "the stages exist as modules and samples (ps_sample_align, ps_sample_select, ps_sample_light, "
+      "ps_sample_render). Nothing was written to " + args.out);
 }
 
 }  // namespace
