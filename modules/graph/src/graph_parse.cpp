@@ -75,7 +75,9 @@ std::shared_ptr<const GraphSpec> parseGraph(const std::string& text, const std::
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error (syntax) and out_of_range (a number that overflows: found by the graph_json
+    // fuzzer) are both bad input
     ps.fail("", std::string("expected valid JSON: ") + e.what());
   }
   if (!j.is_object()) ps.fail("", "expected a JSON object");
