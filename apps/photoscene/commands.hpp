@@ -22,6 +22,8 @@ void addRenderCommand(CLI::App& root);
 void addEvalCommand(CLI::App& root);
 void addGraphsCommand(CLI::App& root);
 void addCheckCommand(CLI::App& root);
+void addReportCommand(CLI::App& root);
+void addViewCommand(CLI::App& root);
 
 /// `photoscene` with no arguments: runs the bundled sample into ./photoscene-demo.
 void runDemo();

@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   ps::app::addEvalCommand(app);
   ps::app::addGraphsCommand(app);
   ps::app::addCheckCommand(app);
+  ps::app::addReportCommand(app);
+  ps::app::addViewCommand(app);
 
   try {
     app.parse(argc, argv);

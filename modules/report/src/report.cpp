@@ -513,7 +513,8 @@ ReportSummary writeReport(const fs::path& outDir, const ReportOptions& options) 
   const std::string title =
       "photoscene report: " + fs::absolute(outDir).lexically_normal().filename().string();
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n
+    << "<link rel=\"icon\" href=\"data:,\">\n"
     << "<title>" << html(title) << "</title>\n<style>" << kStyle << "</style></head><body>\n";
   h << "<header><h1>" << html(title) << "</h1><div class=\"sub\">" << views.size() << " view(s), "
     << parts.size() << " parts";
