@@ -229,7 +229,7 @@ th{background:#f0f2f5;font-weight:600}td.num{text-align:right}
 .wipe input{display:block;width:100%;margin:6px 0 0}
 .trio{display:flex;gap:6px;margin-top:6px}.trio figure{margin:0;font-size:12px;text-align:center}
 .trio img{width:200px;display:block}.missing{color:#999;font-style:italic}
-img.thumb{width:64px;height:64px;object-fit:cover;border:1px solid #ccd;image-rendering:auto}
+td.maps{white-space:nowrap}img.thumb,span.thumb{width:56px;height:56px;object-fit:cover;border:1px solid #ccd;image-rendering:auto}
 .params{font-size:12px;color:#445}.bar{display:inline-block;height:10px;background:#2a7fd4;border-radius:2px}
 .note{color:#666;font-size:12px}
 )CSS";
@@ -513,7 +513,7 @@ ReportSummary writeReport(const fs::path& outDir, const ReportOptions& options) 
   const std::string title =
       "photoscene report: " + fs::absolute(outDir).lexically_normal().filename().string();
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n
+    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
     << "<link rel=\"icon\" href=\"data:,\">\n"
     << "<title>" << html(title) << "</title>\n<style>" << kStyle << "</style></head><body>\n";
   h << "<header><h1>" << html(title) << "</h1><div class=\"sub\">" << views.size() << " view(s), "
@@ -626,13 +626,13 @@ ReportSummary writeReport(const fs::path& outDir, const ReportOptions& options) 
     };
     h << "<tr id=\"part-" << html(part) << "\"><td><b>" << html(part) << "</b>";
     if (partRole.count(part)) h << "<br><span class=\"note\">" << partRole[part] << "</span>";
-    h << "</td><td>" << str("graph") << "</td><td>" << str("category") << "</td><td>";
+    h << "</td><td>" << str("graph") << "</td><td>" << str("category") << "</td><td class=\"maps\">";
     if (const json* maps = at(m, "maps"); maps && maps->is_object()) {
       for (const char* k : {"albedo", "normal", "roughness", "metallic"}) {
         const json* f = at(*maps, k);
         if (!f || !f->is_string()) continue;
         const std::string url = urlFor(outDir / f->get<std::string>(), outDir);
-        h << "<a href=\"" << html(url) << "\"><img class=\"thumb\" loading=\"lazy\" src=\""
+        h << "<a href=\"" << html(url) << "\"><img class=\"thumb\" src=\""
           << html(url) << "\" alt=\"" << k << "\" title=\"" << k << "\"></a> ";
       }
     } else if (const json* hom = at(m, "homogeneous")) {
