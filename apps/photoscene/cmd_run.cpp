@@ -5,7 +5,10 @@
 
 #include "commands.hpp"
 #include "photoscene/core.hpp"
+#include "photoscene/pipeline.hpp"
 #include "photoscene/scene.hpp"
+
+#include <cstdio>
 
 namespace ps::app {
 
@@ -20,15 +23,22 @@ struct RunArgs {
 };
 
 void runPipeline(const RunArgs& args) {
-  ThreadLimit limit(args.threads);
-  // Everything is validated before anything is written: bad input exits 2 with no output folder.
-  const Scene scene = loadScene(args.scene);
-  spdlog::info("{}: valid ({} parts, {} views, {} area lights)", args.scene, scene.parts.size(),
-               scene.views.size(), scene.lights.area.size());
-  throw NotBuiltYet(
-      "run: the pipeline that chains the stages into an output folder (issue 6) is not built yet; "
-      "the stages exist as modules and samples (ps_sample_align, ps_sample_select, ps_sample_light, "
-      "ps_sample_render). Nothing was written to " + args.out);
+  PipelineOptions o;
+  o.scene = args.scene;
+  o.out = args.out;
+  if (!args.preset.empty()) o.preset = args.preset;
+  o.textureSize = args.textureSize;
+  o.threads = args.threads;
+  o.baseline = parseBaseline(args.baseline);
+  const PipelineResult r = ps::runPipeline(o);
+  std::printf("%-12s %9s %9s %7s\n", "stage", "seconds", "computed", "cached");
+  for (const StageRecord& s : r.stages)
+    std::printf("%-12s %9.2f %9d %7d\n", s.name.c_str(), s.seconds, s.computed, s.cached);
+  std::printf("%-12s %9.2f\n", "total", r.totalSeconds);
+  for (size_t k = 0; k < r.lightNames.size(); ++k)
+    std::printf("light %-14s radiance (%.3f, %.3f, %.3f)\n", r.lightNames[k].c_str(), r.lightRadiance[k].x(),
+                r.lightRadiance[k].y(), r.lightRadiance[k].z());
+  std::printf("wrote %s\n", r.out.string().c_str());
 }
 
 }  // namespace
@@ -42,6 +52,8 @@ void addRunCommand(CLI::App& root) {
       ->check(CLI::IsMember({"fast", "balanced", "paper"}));
   cmd->add_option("--texture-size", args->textureSize, "Size of the exported texture maps (pixels)")
       ->check(CLI::Range(4, 16384));
+  cmd->add_option("--baseline", args->baseline, "pixel-median | shading-median: a baseline of the paper instead of the method")
+      ->check(CLI::IsMember({"none", "pixel-median", "shading-median"}));
   cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([args] { runPipeline(*args); });
 }

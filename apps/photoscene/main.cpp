@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
   } catch (const ps::InputError& e) {
     spdlog::error("{}", e.what());
     return 2;
+  } catch (const ps::Interrupted&) {
+    spdlog::warn("interrupted: every file written so far is whole; rerun to continue from the stage cache");
+    return 130;
   } catch (const ps::app::NotBuiltYet& e) {
     spdlog::error("{}", e.what());
     return 1;

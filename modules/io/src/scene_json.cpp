@@ -416,6 +416,7 @@ void writeMaterialJson(const fs::path& path, const MaterialFileDesc& m, const fs
   fit["loss"] = m.fitLoss ? nlohmann::json(*m.fitLoss) : nlohmann::json(nullptr);
   fit["seconds"] = m.fitSeconds ? nlohmann::json(*m.fitSeconds) : nlohmann::json(nullptr);
   fit["skipped"] = m.skipped ? nlohmann::json(*m.skipped) : nlohmann::json(nullptr);
+  for (const auto& [k, v] : m.fitExtra.items()) fit[k] = v;
   j["fit"] = fit;
   writeJsonFile(path, j);
 }

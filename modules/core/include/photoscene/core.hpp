@@ -3,6 +3,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "photoscene/core/interrupt.hpp"
 #include "photoscene/core/log.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/parallel.hpp"

@@ -134,6 +134,9 @@ struct MaterialFileDesc {
   std::optional<int> fitView;
   std::optional<double> fitLoss, fitSeconds;
   std::optional<std::string> skipped;
+  /// Further keys written into "fit" (optional extensions such as "history", the loss per
+  /// iteration); not read back.
+  nlohmann::json fitExtra = nlohmann::json::object();
 };
 MaterialFileDesc readMaterialJson(const fs::path& path);
 /// Writes a materials file; map paths are written relative to `outDir`.

@@ -1,0 +1,90 @@
+// The whole method as one call: photos + coarse CAD in (scene.json), a digital twin out (the
+// output folder of ../shared/spec/scene-format.md section 3).
+//
+// Stages (paper sections 3.1-3.4; each cached on disk under OUT/.cache, keyed by a hash of its
+// inputs, so a rerun redoes only what changed):
+//   geometry   per view: G-buffers of the coarse geometry at the working resolution
+//   align      per view: photo regions matched to parts, the Eq. (1) box warp, aligned masks
+//   lights0    emitter intensities under neutral materials (per-part photo medians, roughness
+//              0.7), non-negative least squares over the pixels where geometry and photo agree
+//   incident0  per view: incident-light grids under the neutral materials and lights0
+//   select     per part: the material graph (kNN over the exemplar bank, or the user's choice;
+//              homogeneous below the small-part threshold)
+//   fit        per part, in parallel: graph parameters, mean roughness, UV transform
+//   lights1    the global solve over all views with the fitted materials (per-view exposure)
+//   incident1  per view: incident-light grids under the fitted materials and lights1
+//   refine     per part: the second round, albedo scale and roughness only
+//   export     textures at --texture-size (graphs re-evaluated there), materials/*.json,
+//              lights.json, scene.json, renders, glTF, metrics.json, report.html
+//
+// The global scale that one image cannot fix (brighter lights and darker materials explain the
+// photo equally well) is pinned by the neutral materials: their albedos are the parts' photo
+// medians scaled so that the pixel-weighted mean albedo luminance is `meanAlbedo` (0.5), and
+// every later stage inherits that scale.
+//
+//   ps::PipelineOptions o;
+//   o.scene = "room/scene.json";  o.out = "room-twin";
+//   ps::PipelineResult r = ps::runPipeline(o);
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "photoscene/core/math.hpp"
+
+namespace ps {
+
+enum class Baseline {
+  None,           ///< the method
+  PixelMedian,    ///< per part the median photo colour as albedo, roughness 0.7, flat (IM2CAD)
+  ShadingMedian,  ///< per part the median of photo / rendered diffuse shading (inverse rendering stand-in)
+};
+Baseline parseBaseline(const std::string& name);  ///< "none" | "pixel-median" | "shading-median"
+const char* baselineName(Baseline b);
+
+struct PipelineOptions {
+  std::filesystem::path scene;               ///< scene.json
+  std::filesystem::path out;                 ///< output folder (created; existing outputs replaced)
+  std::optional<std::string> preset;         ///< overrides scene.json's options.preset
+  int textureSize = 1024;                    ///< exported maps, any size >= 4
+  int threads = 0;                           ///< 0 = all cores
+  Baseline baseline = Baseline::None;
+  /// Exemplar-bank cache (shared between runs); empty: $PS_CACHE_DIR, else
+  /// $XDG_CACHE_HOME/photoscene, else ~/.cache/photoscene.
+  std::filesystem::path bankCache;
+  bool useStageCache = true;                 ///< false: recompute every stage
+  int workWidth = 320;                       ///< analysis resolution (photo scaled down to this width)
+  double meanAlbedo = 0.5;                   ///< the scale pin (see above)
+  std::optional<int> renderSpp;              ///< final renders; default by preset
+  std::optional<int> maxFitIterations;       ///< caps the per-part iterations (tests)
+  bool writeReport = true;
+  bool writeGltf = true;
+};
+
+struct StageRecord {
+  std::string name;
+  double seconds = 0;
+  int computed = 0;  ///< units (views, parts, ...) computed in this run
+  int cached = 0;    ///< units loaded from the stage cache
+};
+
+struct PipelineResult {
+  std::filesystem::path out;
+  std::string preset;
+  std::vector<StageRecord> stages;
+  double totalSeconds = 0;
+  std::vector<std::string> lightNames;    ///< emitters (and "environment" last when present)
+  std::vector<Vec3d> lightRadiance;       ///< recovered (or given) radiance, same order
+  std::vector<double> exposure;           ///< per view
+  const StageRecord* stage(const std::string& name) const;
+  int computedUnits() const;              ///< sum over stages
+};
+
+/// Runs every stage. Bad input (scene.json and what it names, unknown graphs in `parts`) throws
+/// ps::InputError before anything is written. Ctrl-C (SIGINT) stops at the next check point
+/// with ps::Interrupted, leaving only whole files.
+PipelineResult runPipeline(const PipelineOptions& options);
+
+}  // namespace ps

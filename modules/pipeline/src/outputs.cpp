@@ -1,0 +1,268 @@
+// The export stage: the output folder of ../shared/spec/scene-format.md section 3, every file
+// written whole (temporary name + rename).
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <opencv2/imgproc.hpp>
+
+#include "context.hpp"
+#include "photoscene/core.hpp"
+#include "photoscene/io.hpp"
+
+namespace ps::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void copyFile(const fs::path& from, const fs::path& to) {
+  fs::create_directories(to.parent_path());
+  io::writeAtomically(to, [&](const fs::path& tmp) { fs::copy_file(from, tmp, fs::copy_options::overwrite_existing); });
+}
+
+int nextPowerOfTwo(int n) {
+  int p = 4;
+  while (p < n) p *= 2;
+  return p;
+}
+
+cv::Mat atSize(const cv::Mat& m, int size) {
+  if (m.empty() || m.cols == size) return m;
+  cv::Mat out;
+  cv::resize(m, out, cv::Size(size, size), 0, 0, cv::INTER_AREA);
+  return out;
+}
+
+nlohmann::json vec(const Vec3f& v) { return {v.x(), v.y(), v.z()}; }
+
+// The maps of a fitted part at the texture size: the graph re-evaluated at the next power of two
+// (never upsampled), area-downsampled when the size is not one.
+void writeTextures(Context& ctx, const PartWork& p, io::MaterialFileDesc& m, const fs::path& out) {
+  const int size = ctx.options.textureSize;
+  MaterialGraph g = ctx.library->create(p.graph);
+  g.setValues(p.values);
+  const MaterialMaps maps =
+      g.evaluate(nextPowerOfTwo(size), MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+  const fs::path tex = out / "textures";
+  fs::create_directories(tex);
+  const cv::Mat albedo = atSize(maps.albedo, size);
+  io::writeImage(tex / (p.name + "_albedo.png"), albedo);
+  cv::Mat n = atSize(maps.normal, size);
+  // renormalise after the area filter, then encode n * 0.5 + 0.5 (OpenGL tangent space)
+  for (int y = 0; y < n.rows; ++y)
+    for (int x = 0; x < n.cols; ++x) {
+      cv::Vec3f& v = n.at<cv::Vec3f>(y, x);
+      const float len = std::sqrt(v.dot(v));
+      v = len > 1e-8f ? v / len : cv::Vec3f(0, 0, 1);
+    }
+  n.convertTo(n, CV_32F, 0.5, 0.5);
+  io::WriteOptions linear;
+  linear.encode = io::ColorSpace::Linear;
+  io::writeImage(tex / (p.name + "_normal.png"), n, linear);
+  const cv::Mat rough = atSize(maps.roughness, size);
+  io::writeImage(tex / (p.name + "_roughness.png"), rough, linear);
+  m.maps["albedo"] = tex / (p.name + "_albedo.png");
+  m.maps["normal"] = tex / (p.name + "_normal.png");
+  m.maps["roughness"] = tex / (p.name + "_roughness.png");
+  const cv::Scalar mean = cv::mean(albedo);
+  m.homogeneous.albedo = Vec3d(mean[0], mean[1], mean[2]) * p.albedoScale;
+  m.homogeneous.roughness = std::clamp(p.roughness * p.roughnessFactor, 0.0f, 1.0f);
+  nlohmann::json params = nlohmann::json::object();
+  for (const GraphParameter& gp : g.parameters()) {
+    const std::vector<float> v = g.parameter(gp.name);
+    params[gp.name] = v.size() == 1 ? nlohmann::json(v[0]) : nlohmann::json(v);
+  }
+  m.params = params;
+}
+
+void writeMaterials(Context& ctx, const fs::path& out) {
+  fs::create_directories(out / "materials");
+  Progress progress("textures", static_cast<int64_t>(ctx.parts.size()));
+  parallelFor(0, static_cast<int64_t>(ctx.parts.size()), [&](int64_t i) {
+    if (interruptRequested()) return;
+    const PartWork& p = ctx.parts[i];
+    io::MaterialFileDesc m;
+    m.part = p.name;
+    m.graph = p.graph;
+    m.category = p.category;
+    m.homogeneous.albedo = Vec3d::Constant(0.5);
+    m.homogeneous.roughness = 0.7;
+    switch (p.mode) {
+      case PartMode::Fit: {
+        writeTextures(ctx, p, m, out);
+        const UvTransform t = p.uv.toTransform();
+        m.uv.rotationDeg = t.rotationDeg;
+        m.uv.scale = t.scale.cast<double>();
+        m.uv.offset = t.offset.cast<double>();
+        m.albedoScale = p.albedoScale;
+        m.roughnessScale = p.roughnessScale * p.roughnessFactor;
+        break;
+      }
+      case PartMode::Homogeneous:
+        m.homogeneous.albedo = p.albedo.cast<double>();
+        m.homogeneous.roughness = p.roughness;
+        break;
+      case PartMode::Fixed:
+        m.graph = m.category = "homogeneous";
+        m.homogeneous.albedo = p.albedo.cast<double>();
+        m.homogeneous.roughness = p.roughness;
+        m.homogeneous.metallic = p.metallic;
+        m.homogeneous.specular = p.specular;
+        break;
+      case PartMode::Emitter:
+        m.graph = m.category = "homogeneous";
+        m.homogeneous.albedo = Vec3d::Zero();
+        break;
+      default:
+        m.graph = m.category = "homogeneous";
+        break;
+    }
+    if (p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) {
+      m.fitView = p.view;
+      m.fitLoss = p.loss;
+      m.fitSeconds = p.seconds;
+      m.fitExtra["pixels"] = p.pixels;
+      m.fitExtra["iterations"] = p.iterations;
+      m.fitExtra["refine_loss"] = p.refineLoss;
+      if (!p.runnersUp.empty()) m.fitExtra["runners_up"] = p.runnersUp;
+      if (!p.history.empty()) m.fitExtra["history"] = p.history;
+      if (ctx.options.baseline != Baseline::None) m.fitExtra["baseline"] = baselineName(ctx.options.baseline);
+    } else {
+      m.skipped = p.skipped;
+    }
+    io::writeMaterialJson(out / "materials" / (p.name + ".json"), m, out);
+    progress.advance();
+  });
+  progress.finish();
+  checkInterrupted();
+}
+
+// lights.json and the scene.json of the twin (inputs copied into the folder so it stands alone)
+void writeSceneFiles(Context& ctx, const fs::path& out) {
+  const Scene& scene = ctx.scene;
+  nlohmann::json j = scene.desc.rawJson;
+  const fs::path geometry = fs::path("geometry") / scene.desc.geometry.filename();
+  copyFile(scene.desc.geometry, out / geometry);
+  j["geometry"] = geometry.generic_string();
+  for (size_t v = 0; v < scene.views.size(); ++v) {
+    const io::ViewDesc& d = scene.desc.views[v];
+    const fs::path photo = fs::path("photos") / fmt::format("view{}{}", v, d.image.extension().string());
+    copyFile(d.image, out / photo);
+    j["views"][v]["image"] = photo.generic_string();
+    if (d.segments) {
+      const fs::path seg = fs::path("segments") / fmt::format("view{}{}", v, d.segments->extension().string());
+      copyFile(*d.segments, out / seg);
+      j["views"][v]["segments"] = seg.generic_string();
+    }
+  }
+  io::LightsFileDesc lf;
+  nlohmann::json lights = nlohmann::json::object();
+  lights["area"] = nlohmann::json::array();
+  for (const AreaLight& l : scene.lights.area) {
+    io::AreaLightDesc d;
+    d.name = l.name;
+    nlohmann::json e;
+    if (l.kind == AreaLight::Kind::Part) {
+      d.part = scene.parts[l.partId].name;
+      e["part"] = *d.part;
+    } else {
+      d.center = l.center.cast<double>();
+      d.edgeU = l.edgeU.cast<double>();
+      d.edgeV = l.edgeV.cast<double>();
+      e["center"] = vec(l.center);
+      e["edge_u"] = vec(l.edgeU);
+      e["edge_v"] = vec(l.edgeV);
+    }
+    d.radiance = l.radiance.value_or(Vec3f::Zero()).cast<double>();
+    e["radiance"] = vec(l.radiance.value_or(Vec3f::Zero()));
+    lights["area"].push_back(e);
+    lf.emitters.push_back(d);
+  }
+  if (scene.lights.environment) {
+    const EnvironmentLight& env = *scene.lights.environment;
+    const io::EnvironmentDesc& in = *scene.desc.lights.environment;
+    io::EnvironmentDesc d;
+    d.radiance = env.radiance.cast<double>();
+    d.rotationDeg = env.rotationDeg;
+    d.windowParts = in.windowParts;
+    nlohmann::json e;
+    e["radiance"] = vec(env.radiance);
+    e["rotation_deg"] = env.rotationDeg;
+    if (!in.windowParts.empty()) e["window_parts"] = in.windowParts;
+    if (in.image) {
+      const fs::path img = fs::path("env") / in.image->filename();
+      copyFile(*in.image, out / img);
+      d.image = out / img;
+      e["image"] = img.generic_string();
+    }
+    lights["environment"] = e;
+    lf.environment = d;
+  }
+  lf.exposure = ctx.exposure;
+  if (lf.exposure.empty()) lf.exposure.assign(scene.views.size(), 1.0);
+  j["lights"] = lights;
+  io::writeLightsJson(out / "lights.json", lf);
+  io::writeJsonFile(out / "scene.json", j);
+}
+
+void writeRenders(Context& ctx, const fs::path& out, std::vector<fs::path>& written) {
+  const Twin twin = loadTwin(out);
+  const PathTracer tracer(twin.scene, twin.materials);
+  fs::create_directories(out / "renders");
+  for (size_t v = 0; v < twin.scene.views.size(); ++v) {
+    checkInterrupted();
+    RenderOptions ro;
+    ro.spp = ctx.budget.renderSpp;
+    ro.seed = ctx.seed + 7919 * v;
+    RenderStats stats;
+    const double exposure = v < twin.exposure.size() ? twin.exposure[v] : 1.0;
+    const cv::Mat image = renderTwinView(tracer, twin.scene.views[v].camera, ro, exposure, &stats);
+    const fs::path exr = out / "renders" / fmt::format("view{}.exr", v);
+    const fs::path png = out / "renders" / fmt::format("view{}.png", v);
+    io::writeImage(exr, image);
+    io::writeImage(png, image);
+    written.push_back(exr);
+    written.push_back(png);
+    spdlog::info("render view {}: {}x{} at {} spp in {:.1f} s", v, image.cols, image.rows, ro.spp, stats.seconds);
+  }
+}
+
+}  // namespace
+
+void stageExport(Context& ctx) {
+  StageScope stage(ctx, "export");
+  const fs::path& out = ctx.options.out;
+  Hasher h;
+  h.add(uint64_t{4}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
+  h.add(static_cast<int>(ctx.options.baseline)).add(ctx.options.writeReport).add(ctx.options.writeGltf);
+  for (const PartWork& p : ctx.parts) h.add(static_cast<int>(p.mode)).add(p.fitKey).add(p.refineKey);
+  for (const AreaLight& l : ctx.scene.lights.area) {
+    const Vec3f r = l.radiance.value_or(Vec3f::Zero());
+    h.add(r.x()).add(r.y()).add(r.z());
+  }
+  for (double e : ctx.exposure) h.add(e);
+  const uint64_t key = h.digest();
+  if (auto hit = ctx.cache->load("export", key)) {
+    const uint64_t n = hit->get<uint64_t>();
+    bool complete = true;
+    for (uint64_t i = 0; i < n; ++i) complete = fs::exists(out / hit->getString()) && complete;
+    if (complete) {
+      stage.cached();
+      return;
+    }
+  }
+  writeMaterials(ctx, out);
+  writeSceneFiles(ctx, out);
+  std::vector<fs::path> written = {out / "scene.json", out / "lights.json"};
+  for (const PartWork& p : ctx.parts) written.push_back(out / "materials" / (p.name + ".json"));
+  writeRenders(ctx, out, written);
+  Archive a;
+  a.put<uint64_t>(written.size());
+  for (const fs::path& f : written) a.putString(fs::relative(f, out).generic_string());
+  ctx.cache->store("export", key, a);
+  stage.computed();
+}
+
+}  // namespace ps::pipeline
