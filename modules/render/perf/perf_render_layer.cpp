@@ -31,7 +31,8 @@ PartGeometry makeGeometry(int n) {
     px.footprint = 1 / 40.0f;
     px.wo = Vec3f(0.3f, 0.2f, 0.93f).normalized();
     g.data.push_back(px);
-    for (int b = 0; b < 128 * 3; ++b) g.light[static_cast<size_t>(k) * 384 + b] = 0.2f + (b / 3 == 5 ? 8.0f : 0.1f * rng.uniform());
+    for (int b = 0; b < 128; ++b)
+      for (int c = 0; c < 3; ++c) g.light[g.lightIndex(k, b, c)] = 0.2f + (b == 5 ? 8.0f : 0.1f * rng.uniform());
   }
   return g;
 }

@@ -127,7 +127,7 @@ PartGeometry preparePartGeometry(const GBuffer& gb, const Vec3f& cameraCenter, c
       if (w <= 0) return;
       for (int b = 0; b < g.bins; ++b) {
         const Vec3f& v = grid.at(gx, gy, b / grid.phiBins, b % grid.phiBins);
-        for (int c = 0; c < 3; ++c) L[b * 3 + c] += w * (std::isfinite(v[c]) ? std::max(0.0f, v[c]) : 0.0f);
+        for (int c = 0; c < 3; ++c) L[c * g.bins + b] += w * (std::isfinite(v[c]) ? std::max(0.0f, v[c]) : 0.0f);
       }
       wsum += w;
     };
@@ -356,13 +356,48 @@ inline DEval ggxDd(float c, float a) {
   return r;
 }
 
+// Blocked dot product with kLanes independent partial sums (vectorises without -ffast-math;
+// the summation order is fixed, so results do not depend on the thread count).
+constexpr int kLanes = 8;
+inline float dotLanes(const float* a, const float* b, int n) {
+  float acc[kLanes] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int i = 0;
+  for (; i + kLanes <= n; i += kLanes)
+    for (int j = 0; j < kLanes; ++j) acc[j] += a[i + j] * b[i + j];
+  float tail = 0;
+  for (; i < n; ++i) tail += a[i] * b[i];
+  return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail;
+}
+inline float sumLanes(const float* a, int n) {
+  float acc[kLanes] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int i = 0;
+  for (; i + kLanes <= n; i += kLanes)
+    for (int j = 0; j < kLanes; ++j) acc[j] += a[i + j];
+  float tail = 0;
+  for (; i < n; ++i) tail += a[i];
+  return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail;
+}
+
+// Per-thread scratch of the per-direction loops.
+struct Scratch {
+  std::vector<float> cb, lA, lFb, lgb, wb1, wb2;   // per bin
+  std::vector<float> w1, w2, a, c, e, lF, lg;      // per specular sub-direction
+  Scratch(int bins, int subPadded)
+      : cb(bins), lA(bins), lFb(bins), lgb(bins), wb1(bins), wb2(bins), w1(subPadded), w2(subPadded),
+        a(subPadded), c(subPadded), e(subPadded), lF(subPadded), lg(subPadded) {}
+};
+
 }  // namespace
 
 struct RenderLayerWorkspace {
   Pyramid albedo, normal, roughness;
-  // specular sub-directions: direction and bin index
-  std::vector<Vec3f> subDir;
-  std::vector<int> subBin;
+  // Directions as structure of arrays (the per-direction loops below are written to vectorise):
+  // bin centres (diffuse) and the specular sub-directions, sub^2 consecutive ones per bin, padded
+  // to a multiple of kLanes with directions whose weight is masked to zero.
+  std::vector<float> binX, binY, binZ;
+  std::vector<float> subX, subY, subZ;
+  int subCount = 0;   // bins * sub^2 (real sub-directions)
+  int subPadded = 0;  // subCount rounded up to kLanes
   float subSolidAngle = 0;
   int sub = 0;
 };
@@ -380,7 +415,7 @@ struct PixelGrad {
 
 // Renders pixel k; with g != null (and gradOut = d loss / d I), fills the pixel's gradients.
 Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int k, const Vec3f* gradOut,
-                 PixelGrad* pg) {
+                 PixelGrad* pg, Scratch* scratch) {
   const PartGeometry& geo = *p.geometry;
   const PartGeometry::Pixel& px = geo.data[k];
   const Vec3f& wo = px.wo;
@@ -457,28 +492,38 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   const float rc = clampv(std::isfinite(rough) ? rough : 1.0f, 0.0f, 1.0f);
   const float alpha = std::max(rc * rc, kMinAlpha);
   const float dAlphaDr = (rc * rc > kMinAlpha && rough > 0 && rough < 1) ? 2 * rc : 0.0f;
-  const float* L = &geo.light[static_cast<size_t>(k) * geo.bins * 3];
+  const int B = geo.bins;
+  const float* L0 = &geo.light[static_cast<size_t>(k) * 3 * B];  // planar: [c * bins + b]
+  const float* Lc[3] = {L0, L0 + B, L0 + 2 * B};
   const float dOm = geo.binSolidAngle;
+  Scratch& sc = *scratch;
+  const float nx = n.x(), ny = n.y(), nz = n.z();
 
-  // diffuse (with gradients, d/dn is accumulated in the same pass)
+  // diffuse: E_c = sum_b L_bc (n.d_b)+ over the bin centres; d/dn accumulated in the same pass
   const float kd0 = (1 - m) * kInvPi * dOm;
   const Vec3f gOut = wantGrad ? *gradOut : Vec3f::Zero();
   const float wA[3] = {gOut[0] * Ac[0] * kd0, gOut[1] * Ac[1] * kd0, gOut[2] * Ac[2] * kd0};
   const bool nGrad = wantGrad && nFree;
+  const float* bx = ws.binX.data();
+  const float* by = ws.binY.data();
+  const float* bz = ws.binZ.data();
+  float* cb = sc.cb.data();
+  for (int b = 0; b < B; ++b) cb[b] = std::max(0.0f, nx * bx[b] + ny * by[b] + nz * bz[b]);
+  float E[3];
+  for (int ch = 0; ch < 3; ++ch) E[ch] = dotLanes(Lc[ch], cb, B);
   Vec3f gnDiffuse = Vec3f::Zero();
-  double E[3] = {0, 0, 0};
-  for (int b = 0; b < geo.bins; ++b) {
-    const float c = n.dot(geo.binDir[b]);
-    if (c <= 0) continue;
-    for (int ch = 0; ch < 3; ++ch) E[ch] += L[b * 3 + ch] * c;
-    if (nGrad) gnDiffuse += (wA[0] * L[b * 3] + wA[1] * L[b * 3 + 1] + wA[2] * L[b * 3 + 2]) * geo.binDir[b];
+  if (nGrad) {
+    float* lA = sc.lA.data();
+    for (int b = 0; b < B; ++b) lA[b] = cb[b] > 0 ? wA[0] * Lc[0][b] + wA[1] * Lc[1][b] + wA[2] * Lc[2][b] : 0.0f;
+    gnDiffuse = Vec3f(dotLanes(lA, bx, B), dotLanes(lA, by, B), dotLanes(lA, bz, B));
   }
   Vec3f I;
   const float kd = (1 - m) * kInvPi * dOm;
-  for (int ch = 0; ch < 3; ++ch) I[ch] = static_cast<float>(Ac[ch] * kd * E[ch]);
+  for (int ch = 0; ch < 3; ++ch) I[ch] = Ac[ch] * kd * E[ch];
 
-  // specular
-  double S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
+  // specular: per sub-direction q (sub^2 consecutive ones per bin) the weights
+  // DG (1 - Fc) and DG Fc, summed per bin, then against the bin's radiance
+  float S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
   KEval K{0, 0, 0};
   const float cO = n.dot(wo);
   const float dOs = ws.subSolidAngle;
@@ -486,44 +531,110 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   float gAlphaSpec = 0;
   if (!noSpec) {
     K = kTerm(cO, alpha);
-    const float kq = K.k * dOs;
-    for (size_t q = 0; q < ws.subDir.size(); ++q) {
-      const int b = ws.subBin[q];
-      const float* Lb = L + b * 3;
-      if (Lb[0] <= 0 && Lb[1] <= 0 && Lb[2] <= 0) continue;
-      const Vec3f& d = ws.subDir[q];
-      const float cI = n.dot(d);
-      if (cI <= 0) continue;
-      Vec3f h = wo + d;
-      const float hl = h.norm();
-      if (!(hl > 1e-8f)) continue;
-      h /= hl;
-      const float cH = n.dot(h);
-      if (cH <= 0) continue;
-      const float mm = clampv(1.0f - wo.dot(h), 0.0f, 1.0f);
-      const float fc = mm * mm * mm * mm * mm;
-      if (!wantGrad) {
-        const float DG = ggxDd(cH, alpha).d * smithG1d(cI, alpha).g;
-        for (int ch = 0; ch < 3; ++ch) {
-          S1[ch] += Lb[ch] * DG * (1 - fc);
-          S2[ch] += Lb[ch] * DG * fc;
-        }
-        continue;
+    const int Q = ws.subPadded, s2 = ws.sub * ws.sub;
+    const float a2 = alpha * alpha, a2m1 = a2 - 1, oneMa2 = 1 - a2, dScale = a2 * kInvPi;
+    const float wx = wo.x(), wy = wo.y(), wz = wo.z();
+    const float* sx = ws.subX.data();
+    const float* sy = ws.subY.data();
+    const float* sz = ws.subZ.data();
+    float* w1 = sc.w1.data();
+    float* w2 = sc.w2.data();
+    if (!wantGrad) {
+      for (int q = 0; q < Q; ++q) {
+        const float dx = sx[q], dy = sy[q], dz = sz[q];
+        const float cI = nx * dx + ny * dy + nz * dz;
+        const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
+        const float hl2 = ux * ux + uy * uy + uz * uz;
+        const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
+        const float cH = (nx * ux + ny * uy + nz * uz) * inv;
+        const float woh = (wx * ux + wy * uy + wz * uz) * inv;
+        const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
+        const float mm2 = mm * mm;
+        const float fc = mm2 * mm2 * mm;
+        const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
+        const float iq = 1.0f / (cHc * cHc * a2m1 + 1);
+        const float D = dScale * iq * iq;
+        const float G = 2 * cIc / (cIc + std::sqrt(cIc * cIc * oneMa2 + a2));
+        const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
+        const float DG = D * G * (ok ? 1.0f : 0.0f);
+        w1[q] = DG * (1 - fc);
+        w2[q] = DG * fc;
       }
-      const DEval D = ggxDd(cH, alpha);
-      const G1Eval G = smithG1d(cI, alpha);
-      const float DG = D.d * G.g;
-      float wq = 0;
-      for (int ch = 0; ch < 3; ++ch) {
-        S1[ch] += Lb[ch] * DG * (1 - fc);
-        S2[ch] += Lb[ch] * DG * fc;
-        wq += gOut[ch] * Lb[ch] * (F0[ch] * (1 - fc) + f90 * fc);
+    } else {
+      // per-direction radiance weights of the gradient: sum_c g_c F0_c L_c and sum_c g_c L_c
+      float* lFq = sc.lF.data();
+      float* lgq = sc.lg.data();
+      float* lFb = s2 == 1 ? lFq : sc.lFb.data();
+      float* lgb = s2 == 1 ? lgq : sc.lgb.data();
+      const float gF0[3] = {gOut[0] * F0[0], gOut[1] * F0[1], gOut[2] * F0[2]};
+      for (int b = 0; b < B; ++b) {
+        lFb[b] = gF0[0] * Lc[0][b] + gF0[1] * Lc[1][b] + gF0[2] * Lc[2][b];
+        lgb[b] = f90 * (gOut[0] * Lc[0][b] + gOut[1] * Lc[1][b] + gOut[2] * Lc[2][b]);
       }
-      wq *= kq;
-      if (nGrad) gnSpec += wq * (D.dc * G.g * h + D.d * G.dc * d);
-      gAlphaSpec += wq * (D.da * G.g + D.d * G.da);
+      if (s2 > 1)
+        for (int b = 0; b < B; ++b)
+          for (int j = 0; j < s2; ++j) lFq[b * s2 + j] = lFb[b], lgq[b * s2 + j] = lgb[b];
+      for (int q = ws.subCount; q < Q; ++q) lFq[q] = lgq[q] = 0;
+      const float kq = K.k * dOs;
+      const float dDdc = -4 * dScale * a2m1, dDda = 2 * alpha * kInvPi;
+      float* ca = sc.a.data();  // coefficient of (wo + d) in d loss / d n
+      float* cc = sc.c.data();  // coefficient of d
+      float* ce = sc.e.data();  // d loss / d alpha
+      for (int q = 0; q < Q; ++q) {
+        const float dx = sx[q], dy = sy[q], dz = sz[q];
+        const float cI = nx * dx + ny * dy + nz * dz;
+        const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
+        const float hl2 = ux * ux + uy * uy + uz * uz;
+        const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
+        const float cH = (nx * ux + ny * uy + nz * uz) * inv;
+        const float woh = (wx * ux + wy * uy + wz * uz) * inv;
+        const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
+        const float mm2 = mm * mm;
+        const float fc = mm2 * mm2 * mm;
+        const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
+        const float qq = cHc * cHc * a2m1 + 1;
+        const float iq = 1.0f / qq;
+        const float iq2 = iq * iq, iq3 = iq2 * iq;
+        const float D = dScale * iq2;
+        const float Ddc = dDdc * cHc * iq3;
+        const float Dda = dDda * iq3 * (qq - 2 * a2 * cHc * cHc);
+        const float sG = std::sqrt(cIc * cIc * oneMa2 + a2);  // >= alpha > 0
+        const float ics = 1.0f / (cIc + sG);
+        const float G = 2 * cIc * ics;
+        const float isG = 1.0f / sG;
+        const float dsdc = cIc * oneMa2 * isG, dsda = alpha * (1 - cIc * cIc) * isG;
+        const float Gdc = 2 * (sG - cIc * dsdc) * ics * ics;
+        const float Gda = -2 * cIc * dsda * ics * ics;
+        const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
+        const float DG = D * G * (ok ? 1.0f : 0.0f);
+        w1[q] = DG * (1 - fc);
+        w2[q] = DG * fc;
+        const float wq = kq * (lFq[q] * (1 - fc) + lgq[q] * fc) * (ok ? 1.0f : 0.0f);
+        const float a = wq * Ddc * G * inv;
+        ca[q] = a;
+        cc[q] = a + wq * D * Gdc;
+        ce[q] = wq * (Dda * G + D * Gda);
+      }
+      gnSpec = Vec3f(wx, wy, wz) * sumLanes(ca, Q) + Vec3f(dotLanes(cc, sx, Q), dotLanes(cc, sy, Q), dotLanes(cc, sz, Q));
+      gAlphaSpec = sumLanes(ce, Q);
     }
-    for (int ch = 0; ch < 3; ++ch) I[ch] += static_cast<float>(K.k * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]));
+    const float* wb1 = w1;
+    const float* wb2 = w2;
+    if (s2 > 1) {
+      float* r1 = sc.wb1.data();
+      float* r2 = sc.wb2.data();
+      for (int b = 0; b < B; ++b) {
+        float t1 = 0, t2 = 0;
+        for (int j = 0; j < s2; ++j) t1 += w1[b * s2 + j], t2 += w2[b * s2 + j];
+        r1[b] = t1, r2[b] = t2;
+      }
+      wb1 = r1, wb2 = r2;
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+      S1[ch] = dotLanes(Lc[ch], wb1, B);
+      S2[ch] = dotLanes(Lc[ch], wb2, B);
+      I[ch] += K.k * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]);
+    }
   }
   if (!I.allFinite()) I = Vec3f::Zero();
   if (!wantGrad) return I;
@@ -612,15 +723,31 @@ void prepareWorkspace(RenderLayerParams& p) {
   const int sub = p.specularSub;
   ws->sub = sub;
   ws->subSolidAngle = g.binSolidAngle / (sub * sub);
+  PS_Check(g.bins == g.thetaBins * g.phiBins && static_cast<int>(g.binDir.size()) == g.bins &&
+               g.light.size() == static_cast<size_t>(g.size()) * g.bins * 3,
+           "render layer: PartGeometry bins, binDir and light sizes disagree");
+  for (const Vec3f& d : g.binDir) {
+    ws->binX.push_back(d.x());
+    ws->binY.push_back(d.y());
+    ws->binZ.push_back(d.z());
+  }
   for (int i = 0; i < g.thetaBins; ++i)
     for (int j = 0; j < g.phiBins; ++j)
       for (int a = 0; a < sub; ++a)
         for (int b = 0; b < sub; ++b) {
           const float cosT = 1.0f - (i + (a + 0.5f) / sub) / g.thetaBins;
           const float phi = 2 * kPi * (j + (b + 0.5f) / sub) / g.phiBins;
-          ws->subDir.push_back(localDirection(cosT, phi));
-          ws->subBin.push_back(i * g.phiBins + j);
+          const Vec3f d = localDirection(cosT, phi);
+          ws->subX.push_back(d.x());
+          ws->subY.push_back(d.y());
+          ws->subZ.push_back(d.z());
         }
+  ws->subCount = static_cast<int>(ws->subX.size());
+  ws->subPadded = (ws->subCount + kLanes - 1) / kLanes * kLanes;
+  // padding: pointing into the surface (n.d < 0 for every shading normal), so masked out
+  ws->subX.resize(ws->subPadded, 0.0f);
+  ws->subY.resize(ws->subPadded, 0.0f);
+  ws->subZ.resize(ws->subPadded, -1.0f);
   p.workspace = ws;
 }
 
@@ -632,10 +759,13 @@ void renderLayerForward(RenderLayerParams& p) {
   p.image.create(g.imageSize, CV_32FC3);
   p.image.setTo(cv::Scalar::all(0));
   const RenderLayerWorkspace& ws = *p.workspace;
-  parallelFor(0, g.size(), [&](int64_t k) {
-    const Vec3f I = shadePixel(p, ws, static_cast<int>(k), nullptr, nullptr);
-    p.image.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x) = cv::Vec3f(I.x(), I.y(), I.z());
-  }, 64);
+  parallelForRanges(0, g.size(), 64, [&](int64_t k0, int64_t k1) {
+    Scratch sc(g.bins, ws.subPadded);
+    for (int64_t k = k0; k < k1; ++k) {
+      const Vec3f I = shadePixel(p, ws, static_cast<int>(k), nullptr, nullptr, &sc);
+      p.image.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x) = cv::Vec3f(I.x(), I.y(), I.z());
+    }
+  });
 }
 
 void renderLayerBackward(const RenderLayerParams& p, const cv::Mat& gradImage, RenderLayerGradients& out) {
@@ -645,12 +775,15 @@ void renderLayerBackward(const RenderLayerParams& p, const cv::Mat& gradImage, R
            "renderLayerBackward: gradImage must be CV_32FC3 of the image size");
   const RenderLayerWorkspace& ws = *p.workspace;
   std::vector<PixelGrad> pgs(g.size());
-  parallelFor(0, g.size(), [&](int64_t k) {
-    const cv::Vec3f gi = gradImage.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x);
-    Vec3f go(gi[0], gi[1], gi[2]);
-    if (!go.allFinite()) go = Vec3f::Zero();
-    shadePixel(p, ws, static_cast<int>(k), &go, &pgs[k]);
-  }, 64);
+  parallelForRanges(0, g.size(), 64, [&](int64_t k0, int64_t k1) {
+    Scratch sc(g.bins, ws.subPadded);
+    for (int64_t k = k0; k < k1; ++k) {
+      const cv::Vec3f gi = gradImage.at<cv::Vec3f>(g.pixels[k].y, g.pixels[k].x);
+      Vec3f go(gi[0], gi[1], gi[2]);
+      if (!go.allFinite()) go = Vec3f::Zero();
+      shadePixel(p, ws, static_cast<int>(k), &go, &pgs[k], &sc);
+    }
+  });
   out = RenderLayerGradients{};
   // maps: scatter into every level, then the adjoint of the box pyramid down to level 0
   auto scatterMap = [&](const Pyramid& pyr, auto getGrad, auto getLi, cv::Mat& result) {

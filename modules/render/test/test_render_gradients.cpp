@@ -47,7 +47,7 @@ PartGeometry syntheticGeometry(int n, uint64_t seed, int thetaBins = 4, int phiB
       for (int c = 0; c < 3; ++c) {
         float v = 0.2f + 0.3f * rng.uniform();
         if (b == 2) v += 6.0f;  // a lamp
-        g.light[(static_cast<size_t>(k) * g.bins + b) * 3 + c] = v;
+        g.light[g.lightIndex(k, b, c)] = v;
       }
   return g;
 }
@@ -239,7 +239,7 @@ TEST(Render_Layer, stress_no_nan_or_inf) {
   // grazing light only (all radiance in the last theta row) at some pixels, black light elsewhere
   for (int k = 6; k < 12; ++k)
     for (int b = 0; b < geo.bins; ++b)
-      for (int c = 0; c < 3; ++c) geo.light[(static_cast<size_t>(k) * geo.bins + b) * 3 + c] = (b / geo.phiBins == geo.thetaBins - 1) ? 50.0f : 0.0f;
+      for (int c = 0; c < 3; ++c) geo.light[geo.lightIndex(k, b, c)] = (b / geo.phiBins == geo.thetaBins - 1) ? 50.0f : 0.0f;
   for (int k = 12; k < 14; ++k) std::fill(geo.light.begin() + k * geo.bins * 3, geo.light.begin() + (k + 1) * geo.bins * 3, 0.0f);
   cv::Mat awayNormals(8, 8, CV_32FC3, cv::Scalar(0.9f, 0.0f, 0.1f));  // almost in the plane
   awayNormals.at<cv::Vec3f>(0, 0) = cv::Vec3f(0, 0, -1);                 // pointing into the surface

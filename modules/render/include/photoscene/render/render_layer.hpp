@@ -71,7 +71,12 @@ struct PartGeometry {
   int thetaBins = 0, phiBins = 0;
   float binSolidAngle = 0;
   std::vector<Vec3f> binDir;    ///< bin centers, local frame
-  std::vector<float> light;     ///< [(pixel * bins + b) * 3 + c]: interpolated incident radiance
+  /// Interpolated incident radiance, per pixel one plane per channel (the layer's per-direction
+  /// loops read it contiguously): light[lightIndex(pixel, b, c)] = light[(pixel * 3 + c) * bins + b].
+  std::vector<float> light;
+  size_t lightIndex(int pixel, int bin, int channel) const {
+    return (static_cast<size_t>(pixel) * 3 + channel) * bins + bin;
+  }
   int size() const { return static_cast<int>(pixels.size()); }
 };
 
