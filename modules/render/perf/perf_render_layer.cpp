@@ -1,4 +1,5 @@
-// Render layer timing on a synthetic 20k-pixel part (8 x 16 light bins, 256 x 256 maps).
+// Render layer timing on a synthetic 20k-pixel part (8 x 16 light bins, 256 x 256 maps), on one
+// thread (threads:1) and on all (threads:0).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -53,18 +54,20 @@ void BM_RenderLayerForward(benchmark::State& st) {
   Fixture f;
   f.p.specularSub = static_cast<int>(st.range(0));
   f.p.specular = st.range(1) ? 0.5f : 0.0f;
+  const ThreadLimit limit(static_cast<int>(st.range(2)));
   for (auto _ : st) {
     renderLayerForward(f.p);
     benchmark::DoNotOptimize(f.p.image.data);
   }
   st.counters["pixels"] = f.geo.size();
 }
-BENCHMARK(BM_RenderLayerForward)->ArgsProduct({{1, 2}, {0, 1}})->ArgNames({"sub", "specular"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderLayerForward)->ArgsProduct({{1, 2}, {0, 1}, {1, 0}})->ArgNames({"sub", "specular", "threads"})->Unit(benchmark::kMillisecond);
 
 void BM_RenderLayerForwardBackward(benchmark::State& st) {
   Fixture f;
   f.p.specularSub = static_cast<int>(st.range(0));
   f.p.specular = st.range(1) ? 0.5f : 0.0f;
+  const ThreadLimit limit(static_cast<int>(st.range(2)));
   cv::Mat g(f.geo.imageSize, CV_32FC3, cv::Scalar::all(1e-3));
   RenderLayerGradients gr;
   for (auto _ : st) {
@@ -74,7 +77,7 @@ void BM_RenderLayerForwardBackward(benchmark::State& st) {
   }
   st.counters["pixels"] = f.geo.size();
 }
-BENCHMARK(BM_RenderLayerForwardBackward)->ArgsProduct({{1, 2}, {0, 1}})->ArgNames({"sub", "specular"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderLayerForwardBackward)->ArgsProduct({{1, 2}, {0, 1}, {1, 0}})->ArgNames({"sub", "specular", "threads"})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace ps

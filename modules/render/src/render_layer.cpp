@@ -356,6 +356,15 @@ inline DEval ggxDd(float c, float a) {
   return r;
 }
 
+// The per-direction loops are compiled twice on x86-64 with GCC: for AVX2 (8 lanes) and the
+// baseline (SSE2, 4 lanes); the loader picks the first the CPU runs. The results are the same
+// (element-wise IEEE operations in the same order; no FMA contraction in ISO C++ mode).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define PS_DIRECTION_LOOP __attribute__((target_clones("avx2", "default")))
+#else
+#define PS_DIRECTION_LOOP
+#endif
+
 // Blocked dot product with kLanes independent partial sums (vectorises without -ffast-math;
 // the summation order is fixed, so results do not depend on the thread count).
 constexpr int kLanes = 8;
@@ -386,6 +395,98 @@ struct Scratch {
       : cb(bins), lA(bins), lFb(bins), lgb(bins), wb1(bins), wb2(bins), w1(subPadded), w2(subPadded),
         a(subPadded), c(subPadded), e(subPadded), lF(subPadded), lg(subPadded) {}
 };
+
+
+// out[b] = x * a[b] + y * b[b] + z * c[b]
+PS_DIRECTION_LOOP
+void mix3(int n, const float* __restrict a, const float* __restrict b, const float* __restrict c, float x, float y,
+          float z, float* __restrict out) {
+  for (int i = 0; i < n; ++i) out[i] = x * a[i] + y * b[i] + z * c[i];
+}
+
+// The diffuse term's d loss / d n weights: lA[b] = [c_b > 0] sum_c wA_c L_bc.
+PS_DIRECTION_LOOP
+void diffuseGradWeights(int n, const float* __restrict cb, const float* __restrict l0, const float* __restrict l1,
+                        const float* __restrict l2, float w0, float w1, float w2, float* __restrict lA) {
+  for (int b = 0; b < n; ++b) lA[b] = (cb[b] > 0 ? 1.0f : 0.0f) * (w0 * l0[b] + w1 * l1[b] + w2 * l2[b]);
+}
+
+// One sub-direction d of the specular sum (the layer's GGX, written branch-free so the loops over
+// directions vectorise): with u = wo + d, h = u / |u|, cI = n.d, cH = n.h, Fc = (1 - wo.h)^5,
+// w1 = D(cH) G1(cI) (1 - Fc), w2 = D(cH) G1(cI) Fc, zero where cI <= 0 or cH <= 0.
+PS_DIRECTION_LOOP
+void specularWeights(int Q, const float* __restrict sx, const float* __restrict sy, const float* __restrict sz,
+                     float nx, float ny, float nz, float wx, float wy, float wz, float a2, float dScale,
+                     float* __restrict w1, float* __restrict w2) {
+  const float a2m1 = a2 - 1, oneMa2 = 1 - a2;
+  for (int q = 0; q < Q; ++q) {
+    const float dx = sx[q], dy = sy[q], dz = sz[q];
+    const float cI = nx * dx + ny * dy + nz * dz;
+    const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
+    const float hl2 = ux * ux + uy * uy + uz * uz;
+    const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
+    const float cH = (nx * ux + ny * uy + nz * uz) * inv;
+    const float woh = (wx * ux + wy * uy + wz * uz) * inv;
+    const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
+    const float mm2 = mm * mm;
+    const float fc = mm2 * mm2 * mm;
+    const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
+    const float iq = 1.0f / (cHc * cHc * a2m1 + 1);
+    const float D = dScale * iq * iq;
+    const float G = 2 * cIc / (cIc + std::sqrt(cIc * cIc * oneMa2 + a2));
+    const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
+    const float DG = D * G * (ok ? 1.0f : 0.0f);
+    w1[q] = DG * (1 - fc);
+    w2[q] = DG * fc;
+  }
+}
+
+// specularWeights and, given the per-direction radiance weights lF = sum_c g_c F0_c L_c and
+// lg = F90 sum_c g_c L_c, the coefficients of d loss / d n = sum_q ca (wo + d) + (cc - ca) d
+// (stored as cc = ca + the d term) and of d loss / d alpha (ce).
+PS_DIRECTION_LOOP
+void specularWeightsGrad(int Q, const float* __restrict sx, const float* __restrict sy, const float* __restrict sz,
+                         float nx, float ny, float nz, float wx, float wy, float wz, float alpha, float kq,
+                         const float* __restrict lFq, const float* __restrict lgq, float* __restrict w1,
+                         float* __restrict w2, float* __restrict ca, float* __restrict cc, float* __restrict ce) {
+  const float a2 = alpha * alpha, a2m1 = a2 - 1, oneMa2 = 1 - a2, dScale = a2 * kInvPi;
+  const float dDdc = -4 * dScale * a2m1, dDda = 2 * alpha * kInvPi;
+  for (int q = 0; q < Q; ++q) {
+    const float dx = sx[q], dy = sy[q], dz = sz[q];
+    const float cI = nx * dx + ny * dy + nz * dz;
+    const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
+    const float hl2 = ux * ux + uy * uy + uz * uz;
+    const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
+    const float cH = (nx * ux + ny * uy + nz * uz) * inv;
+    const float woh = (wx * ux + wy * uy + wz * uz) * inv;
+    const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
+    const float mm2 = mm * mm;
+    const float fc = mm2 * mm2 * mm;
+    const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
+    const float qq = cHc * cHc * a2m1 + 1;
+    const float iq = 1.0f / qq;
+    const float iq2 = iq * iq, iq3 = iq2 * iq;
+    const float D = dScale * iq2;
+    const float Ddc = dDdc * cHc * iq3;
+    const float Dda = dDda * iq3 * (qq - 2 * a2 * cHc * cHc);
+    const float sG = std::sqrt(cIc * cIc * oneMa2 + a2);  // >= alpha > 0
+    const float ics = 1.0f / (cIc + sG);
+    const float G = 2 * cIc * ics;
+    const float isG = 1.0f / sG;
+    const float dsdc = cIc * oneMa2 * isG, dsda = alpha * (1 - cIc * cIc) * isG;
+    const float Gdc = 2 * (sG - cIc * dsdc) * ics * ics;
+    const float Gda = -2 * cIc * dsda * ics * ics;
+    const float okf = ((cI > 0) & (cH > 0) & (hl2 > 1e-16f)) ? 1.0f : 0.0f;
+    const float DG = D * G * okf;
+    w1[q] = DG * (1 - fc);
+    w2[q] = DG * fc;
+    const float wq = kq * (lFq[q] * (1 - fc) + lgq[q] * fc) * okf;
+    const float a = wq * Ddc * G * inv;
+    ca[q] = a;
+    cc[q] = a + wq * D * Gdc;
+    ce[q] = wq * (Dda * G + D * Gda);
+  }
+}
 
 }  // namespace
 
@@ -514,7 +615,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   Vec3f gnDiffuse = Vec3f::Zero();
   if (nGrad) {
     float* lA = sc.lA.data();
-    for (int b = 0; b < B; ++b) lA[b] = cb[b] > 0 ? wA[0] * Lc[0][b] + wA[1] * Lc[1][b] + wA[2] * Lc[2][b] : 0.0f;
+    diffuseGradWeights(B, cb, Lc[0], Lc[1], Lc[2], wA[0], wA[1], wA[2], lA);
     gnDiffuse = Vec3f(dotLanes(lA, bx, B), dotLanes(lA, by, B), dotLanes(lA, bz, B));
   }
   Vec3f I;
@@ -532,7 +633,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   if (!noSpec) {
     K = kTerm(cO, alpha);
     const int Q = ws.subPadded, s2 = ws.sub * ws.sub;
-    const float a2 = alpha * alpha, a2m1 = a2 - 1, oneMa2 = 1 - a2, dScale = a2 * kInvPi;
+    const float a2 = alpha * alpha, dScale = a2 * kInvPi;
     const float wx = wo.x(), wy = wo.y(), wz = wo.z();
     const float* sx = ws.subX.data();
     const float* sy = ws.subY.data();
@@ -540,26 +641,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     float* w1 = sc.w1.data();
     float* w2 = sc.w2.data();
     if (!wantGrad) {
-      for (int q = 0; q < Q; ++q) {
-        const float dx = sx[q], dy = sy[q], dz = sz[q];
-        const float cI = nx * dx + ny * dy + nz * dz;
-        const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
-        const float hl2 = ux * ux + uy * uy + uz * uz;
-        const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
-        const float cH = (nx * ux + ny * uy + nz * uz) * inv;
-        const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-        const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
-        const float mm2 = mm * mm;
-        const float fc = mm2 * mm2 * mm;
-        const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-        const float iq = 1.0f / (cHc * cHc * a2m1 + 1);
-        const float D = dScale * iq * iq;
-        const float G = 2 * cIc / (cIc + std::sqrt(cIc * cIc * oneMa2 + a2));
-        const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
-        const float DG = D * G * (ok ? 1.0f : 0.0f);
-        w1[q] = DG * (1 - fc);
-        w2[q] = DG * fc;
-      }
+      specularWeights(Q, sx, sy, sz, nx, ny, nz, wx, wy, wz, a2, dScale, w1, w2);
     } else {
       // per-direction radiance weights of the gradient: sum_c g_c F0_c L_c and sum_c g_c L_c
       float* lFq = sc.lF.data();
@@ -567,54 +649,17 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
       float* lFb = s2 == 1 ? lFq : sc.lFb.data();
       float* lgb = s2 == 1 ? lgq : sc.lgb.data();
       const float gF0[3] = {gOut[0] * F0[0], gOut[1] * F0[1], gOut[2] * F0[2]};
-      for (int b = 0; b < B; ++b) {
-        lFb[b] = gF0[0] * Lc[0][b] + gF0[1] * Lc[1][b] + gF0[2] * Lc[2][b];
-        lgb[b] = f90 * (gOut[0] * Lc[0][b] + gOut[1] * Lc[1][b] + gOut[2] * Lc[2][b]);
-      }
+      mix3(B, Lc[0], Lc[1], Lc[2], gF0[0], gF0[1], gF0[2], lFb);
+      mix3(B, Lc[0], Lc[1], Lc[2], f90 * gOut[0], f90 * gOut[1], f90 * gOut[2], lgb);
       if (s2 > 1)
         for (int b = 0; b < B; ++b)
           for (int j = 0; j < s2; ++j) lFq[b * s2 + j] = lFb[b], lgq[b * s2 + j] = lgb[b];
       for (int q = ws.subCount; q < Q; ++q) lFq[q] = lgq[q] = 0;
       const float kq = K.k * dOs;
-      const float dDdc = -4 * dScale * a2m1, dDda = 2 * alpha * kInvPi;
       float* ca = sc.a.data();  // coefficient of (wo + d) in d loss / d n
       float* cc = sc.c.data();  // coefficient of d
       float* ce = sc.e.data();  // d loss / d alpha
-      for (int q = 0; q < Q; ++q) {
-        const float dx = sx[q], dy = sy[q], dz = sz[q];
-        const float cI = nx * dx + ny * dy + nz * dz;
-        const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
-        const float hl2 = ux * ux + uy * uy + uz * uz;
-        const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
-        const float cH = (nx * ux + ny * uy + nz * uz) * inv;
-        const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-        const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
-        const float mm2 = mm * mm;
-        const float fc = mm2 * mm2 * mm;
-        const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-        const float qq = cHc * cHc * a2m1 + 1;
-        const float iq = 1.0f / qq;
-        const float iq2 = iq * iq, iq3 = iq2 * iq;
-        const float D = dScale * iq2;
-        const float Ddc = dDdc * cHc * iq3;
-        const float Dda = dDda * iq3 * (qq - 2 * a2 * cHc * cHc);
-        const float sG = std::sqrt(cIc * cIc * oneMa2 + a2);  // >= alpha > 0
-        const float ics = 1.0f / (cIc + sG);
-        const float G = 2 * cIc * ics;
-        const float isG = 1.0f / sG;
-        const float dsdc = cIc * oneMa2 * isG, dsda = alpha * (1 - cIc * cIc) * isG;
-        const float Gdc = 2 * (sG - cIc * dsdc) * ics * ics;
-        const float Gda = -2 * cIc * dsda * ics * ics;
-        const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
-        const float DG = D * G * (ok ? 1.0f : 0.0f);
-        w1[q] = DG * (1 - fc);
-        w2[q] = DG * fc;
-        const float wq = kq * (lFq[q] * (1 - fc) + lgq[q] * fc) * (ok ? 1.0f : 0.0f);
-        const float a = wq * Ddc * G * inv;
-        ca[q] = a;
-        cc[q] = a + wq * D * Gdc;
-        ce[q] = wq * (Dda * G + D * Gda);
-      }
+      specularWeightsGrad(Q, sx, sy, sz, nx, ny, nz, wx, wy, wz, alpha, kq, lFq, lgq, w1, w2, ca, cc, ce);
       gnSpec = Vec3f(wx, wy, wz) * sumLanes(ca, Q) + Vec3f(dotLanes(cc, sx, Q), dotLanes(cc, sy, Q), dotLanes(cc, sz, Q));
       gAlphaSpec = sumLanes(ce, Q);
     }
