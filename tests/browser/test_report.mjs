@@ -6,6 +6,7 @@
 //
 //   node tests/browser/test_report.mjs --photoscene build/bin/photoscene \
 //        --sample samples/data/living-room --node-modules third_party/web/node_modules --out build/browser_test
+//        [--spp N]   samples per pixel of the render the report shows (default 16)
 import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -56,7 +57,7 @@ const run = (cmdArgs, timeout = 60000) => {
 };
 // renders/view<i>.png: a quick path-traced render when this build has the renderer
 fs.mkdirSync(path.join(out, 'renders'));
-let r = run(['-q', 'render', out, '--spp', '16', '-o', path.join(out, 'renders', 'view0.png')]);
+let r = run(['-q', 'render', out, '--spp', args.spp || '16', '-o', path.join(out, 'renders', 'view0.png')]);
 if (r.code !== 0 || !fs.existsSync(path.join(out, 'renders', 'view0.png'))) {
   log('render not available here; the report shows the photo as the render', r.text.trim().split('\n').pop());
   fs.copyFileSync(path.join(out, 'photos', 'view0.png'), path.join(out, 'renders', 'view0.png'));
@@ -118,7 +119,9 @@ async function check(url, label, screenshots) {
   else if (!(before.variance > 50)) fail(`${label}: the canvas looks blank (luminance variance ${before.variance.toFixed(1)})`);
   else log(`${label}: overview canvas mean ${before.mean.toFixed(1)}, variance ${before.variance.toFixed(1)}`);
   if (screenshots) {
-    await page.screenshot({ path: path.join(args.out, 'report.png'), fullPage: true });
+    await page.screenshot({ path: path.join(args.out, 'report_full.png'), fullPage: true });
+    await page.screenshot({ path: path.join(args.out, 'report.png'), fullPage: true,
+                            clip: { x: 0, y: 0, width: 1280, height: 1560 } });
     await page.locator('#viewer').screenshot({ path: path.join(args.out, 'viewer_overview.png') });
   }
   const camBefore = await page.evaluate(() => window.__psViewer.camera.position.toArray());

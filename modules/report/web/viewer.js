@@ -41,6 +41,13 @@ function start(container, config) {
     setStatus(container, 'No twin data (viewer/twin_data.js) to show.', true);
     return null;
   }
+  // the canvas takes the first view's aspect, so "go to input view" frames what the photo shows
+  if (views.length > 0 && views[0].width > 0 && views[0].height > 0) {
+    const a = views[0].width / views[0].height;
+    container.style.aspectRatio = `${views[0].width} / ${views[0].height}`;
+    container.style.height = 'auto';
+    container.style.maxWidth = `${Math.round(560 * a)}px`;
+  }
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
   renderer.outputColorSpace = THREE.SRGBColorSpace;
