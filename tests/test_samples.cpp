@@ -91,4 +91,17 @@ TEST(Samples, select_gives_every_part_a_graph) {
   EXPECT_NE(again.output.find("loaded"), std::string::npos) << again.output;
 }
 
+TEST(Samples, fit_part_lowers_the_loss_on_the_floor) {
+  if (!haveSample() || !fs::exists(kBin / "ps_sample_fit_part")) GTEST_SKIP() << "sample or program not built";
+  ps::io::TempDir out;
+  const Result r = run((kBin / "ps_sample_fit_part").string() + " " + (kSample / "scene.json").string() + " " +
+                       (kSample / "gt/twin/lights.json").string() + " floor wood_planks " +
+                       (out.path() / "fit.png").string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(loss ([\d.]+) -> ([\d.]+))"))) << r.output;
+  EXPECT_LT(std::stod(m[2]), 0.5 * std::stod(m[1])) << r.output;
+  EXPECT_TRUE(fs::exists(out.path() / "fit.png"));
+}
+
 }  // namespace

@@ -93,7 +93,7 @@ struct Context {
   PipelineResult result;
   float albedoPin = 1.0f;               ///< scale from photo medians to neutral albedos
   std::vector<int> freeLights;          ///< area-light indices whose radiance is fitted
-  uint64_t lights0Key = 0, lights1Key = 0;
+  uint64_t lights0Key = 0, lights1Key = 0, exportKey = 0;
   std::vector<double> exposure;
 
   /// Materials for rendering: neutral (photo medians), or fitted (maps at `mapSize`).
@@ -126,5 +126,7 @@ void stageBaseline(Context& ctx);
 void stageRefine(Context& ctx);
 // outputs (outputs.cpp)
 void stageExport(Context& ctx);
+void stageMetrics(Context& ctx, double secondsSoFar);
+void stageReport(Context& ctx);
 
 }  // namespace ps::pipeline

@@ -9,7 +9,9 @@
 
 #include "context.hpp"
 #include "photoscene/core.hpp"
+#include "photoscene/eval.hpp"
 #include "photoscene/io.hpp"
+#include "photoscene/report.hpp"
 
 namespace ps::pipeline {
 
@@ -235,7 +237,7 @@ void stageExport(Context& ctx) {
   StageScope stage(ctx, "export");
   const fs::path& out = ctx.options.out;
   Hasher h;
-  h.add(uint64_t{4}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
+  h.add(uint64_t{5}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
   h.add(static_cast<int>(ctx.options.baseline)).add(ctx.options.writeReport).add(ctx.options.writeGltf);
   for (const PartWork& p : ctx.parts) h.add(static_cast<int>(p.mode)).add(p.fitKey).add(p.refineKey);
   for (const AreaLight& l : ctx.scene.lights.area) {
@@ -244,6 +246,7 @@ void stageExport(Context& ctx) {
   }
   for (double e : ctx.exposure) h.add(e);
   const uint64_t key = h.digest();
+  ctx.exportKey = key;
   if (auto hit = ctx.cache->load("export", key)) {
     const uint64_t n = hit->get<uint64_t>();
     bool complete = true;
@@ -258,10 +261,52 @@ void stageExport(Context& ctx) {
   std::vector<fs::path> written = {out / "scene.json", out / "lights.json"};
   for (const PartWork& p : ctx.parts) written.push_back(out / "materials" / (p.name + ".json"));
   writeRenders(ctx, out, written);
+  if (ctx.options.writeGltf) {
+    checkInterrupted();
+    const GltfExportSummary g = writeTwinGltf(loadTwin(out), out);
+    spdlog::info("glTF: {} meshes, {} materials, {} images, {} emitters", g.meshes, g.materials, g.images, g.emitters);
+    written.push_back(out / "twin.gltf");
+    written.push_back(out / "twin.bin");
+  }
   Archive a;
   a.put<uint64_t>(written.size());
   for (const fs::path& f : written) a.putString(fs::relative(f, out).generic_string());
   ctx.cache->store("export", key, a);
+  stage.computed();
+}
+
+void stageMetrics(Context& ctx, double secondsSoFar) {
+  StageScope stage(ctx, "metrics");
+  const fs::path& out = ctx.options.out;
+  const uint64_t key = Hasher().add(ctx.exportKey).add(ctx.budget.renderSpp).digest();
+  if (ctx.cache->load("metrics", key) && fs::exists(out / "metrics.json")) {
+    stage.cached();
+    return;
+  }
+  eval::EvalOptions o;
+  o.spp = ctx.budget.renderSpp;
+  o.seed = ctx.seed;
+  const eval::TwinEvaluation e = eval::evaluateTwin(out, ctx.options.scene, o);
+  std::map<std::string, double> seconds;
+  for (const StageRecord& r : ctx.result.stages) seconds[r.name] = r.seconds;
+  seconds["metrics"] = e.seconds;
+  eval::writeMetricsJson(out, e, seconds, ctx.preset, secondsSoFar + e.seconds);
+  ctx.cache->store("metrics", key, Archive());
+  stage.computed();
+}
+
+void stageReport(Context& ctx) {
+  if (!ctx.options.writeReport) return;
+  StageScope stage(ctx, "report");
+  const fs::path& out = ctx.options.out;
+  const uint64_t key = Hasher().add(ctx.exportKey).add(hashFile(out / "metrics.json")).digest();
+  if (ctx.cache->load("report", key) && fs::exists(out / "report.html")) {
+    stage.cached();
+    return;
+  }
+  const ReportSummary r = writeReport(out);
+  if (!r.viewerWritten) spdlog::warn("report.html has no 3D viewer: {}", r.viewerNote);
+  ctx.cache->store("report", key, Archive());
   stage.computed();
 }
 

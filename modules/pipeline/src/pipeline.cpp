@@ -51,7 +51,7 @@ int PipelineResult::computedUnits() const {
 namespace pipeline {
 
 // Bump when a stage's algorithm changes so old cache entries are not reused.
-constexpr uint64_t kCacheVersion = 3;
+constexpr uint64_t kCacheVersion = 4;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;
@@ -399,12 +399,15 @@ void stageLights(Context& ctx, bool fitted) {
   Hasher h;
   h.add(kCacheVersion).add(fitted).add(ctx.budget.lightSpp).add(ctx.seed).add(ctx.albedoPin);
   for (const ViewWork& v : ctx.views) h.add(v.alignKey).add(v.photoKey);
-  for (const AreaLight& l : ctx.scene.lights.area) {
+  for (size_t k = 0; k < ctx.scene.lights.area.size(); ++k) {
+    const AreaLight& l = ctx.scene.lights.area[k];
     hashVec(h, l.center);
     hashVec(h, l.edgeU);
     hashVec(h, l.edgeV);
-    h.add(l.partId).add(l.radiance.has_value());
-    if (l.radiance) hashVec(h, *l.radiance);
+    h.add(l.partId);
+    const bool free = std::find(ctx.freeLights.begin(), ctx.freeLights.end(), int(k)) != ctx.freeLights.end();
+    h.add(free);
+    if (!free && l.radiance) hashVec(h, *l.radiance);
   }
   for (const PartWork& p : ctx.parts) {
     h.add(fitted ? p.fitKey : p.selectKey).add(static_cast<int>(p.mode));
@@ -427,6 +430,8 @@ void stageLights(Context& ctx, bool fitted) {
         fitted ? ctx.fittedMaterials(ctx.fitOptions.mapSize, false) : ctx.neutralMaterials();
     // the fixed emitters shine at their radiance; the free ones are rendered one at a time
     const PathTracer tracer(ctx.scene, mats);
+    std::vector<uint8_t> isFree(ctx.scene.lights.area.size(), 0);
+    for (int k : ctx.freeLights) isFree[k] = 1;
     std::vector<lighting::ViewLightData> data;
     for (size_t v = 0; v < ctx.views.size(); ++v) {
       checkInterrupted();
@@ -441,8 +446,8 @@ void stageLights(Context& ctx, bool fitted) {
       cv::Mat fixed = cv::Mat::zeros(view.photo.size(), CV_32FC3);
       for (size_t k = 0; k < ctx.scene.lights.area.size(); ++k) {
         const auto& r = ctx.scene.lights.area[k].radiance;
-        if (r) fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
-        else d.perLight.push_back(perLight[k]);
+        if (isFree[k]) d.perLight.push_back(perLight[k]);
+        else if (r) fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
       }
       if (hasEnv) d.perLight.push_back(perLight.back());
       if (cv::countNonZero(fixed.reshape(1)) > 0) {
@@ -984,6 +989,8 @@ PipelineResult runPipeline(const PipelineOptions& options) {
     stageBaseline(ctx);  // under lights0, the lighting both start from
   }
   stageExport(ctx);
+  stageMetrics(ctx, total.seconds());
+  stageReport(ctx);
 
   ctx.result.totalSeconds = total.seconds();
   for (const AreaLight& l : ctx.scene.lights.area) {
