@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -127,7 +128,9 @@ StaticFileServer::StaticFileServer(const fs::path& root, int port, const std::st
     const std::string err = std::strerror(errno);
     ::close(listenFd_);
     listenFd_ = -1;
-    PS_Check(false, "cannot listen on " << host << ":" << port << ": " << err);
+    if (port != 0)  // the port the user asked for is taken (or not allowed)
+      throw InputError("--port", std::to_string(port), "a free port on " + host + ", got: " + err);
+    throw std::runtime_error("cannot listen on " + host + ": " + err);
   }
   socklen_t len = sizeof(addr);
   ::getsockname(listenFd_, reinterpret_cast<sockaddr*>(&addr), &len);

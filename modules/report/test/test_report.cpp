@@ -191,6 +191,8 @@ TEST(Report_Server, serves_the_folder_with_content_types_and_refuses_traversal) 
   }
   EXPECT_TRUE(contains(get("POST", "/report.html"), "405"));
   EXPECT_TRUE(contains(httpRequest(port, "garbage\r\n\r\n"), "400"));
+  EXPECT_THROW(StaticFileServer(dir / "site", port), InputError);     // the port is taken
+  EXPECT_THROW(StaticFileServer(dir / "secret.txt", 0), InputError);  // not a folder
   stop = true;
   t.join();
 }

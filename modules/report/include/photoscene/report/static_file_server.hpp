@@ -17,8 +17,8 @@ namespace ps {
 class StaticFileServer {
  public:
   /// Binds `host`:`port` (port 0: a free port chosen by the system) and listens. Throws
-  /// ps::Exception when the socket cannot be bound (e.g. the port is taken), ps::InputError
-  /// when `root` is not a folder.
+  /// ps::InputError when `root` is not a folder or the given port is taken,
+  /// std::runtime_error when no socket can be had at all.
   StaticFileServer(const std::filesystem::path& root, int port = 0,
                    const std::string& host = "127.0.0.1");
   ~StaticFileServer();
