@@ -268,25 +268,24 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
     ViewScore vs;
     vs.view = static_cast<int>(i);
     vs.image = relativeTo(view.imagePath, input.desc.baseDir);
-    cv::Mat render;  // before exposure
+    cv::Mat exposed;  // the render times exposure[i], compared with the photo
     const fs::path saved = outDir / "renders" / ("view" + std::to_string(i) + ".exr");
     if (options.useSavedRenders && fs::is_regular_file(saved)) {
-      render = io::readImage(saved);
-      if (render.size() != view.photo.size()) {
+      exposed = io::readImage(saved);  // written with the exposure applied, as `photoscene render OUT`
+      if (exposed.size() != view.photo.size()) {
         result.notes.push_back(saved.string() + " is not of the photo's size: rendered again");
-        render.release();
+        exposed.release();
       } else {
         vs.render = "renders/view" + std::to_string(i) + ".exr";
       }
     }
-    if (render.empty()) {
+    if (exposed.empty()) {
       Timer t;
-      render = renderTwinView(tracer, camera, ro);
+      exposed = renderTwinView(tracer, camera, ro, exposure);
       vs.render = "path tracer, " + std::to_string(options.spp) + " spp";
       spdlog::info("eval: rendered view {} ({}x{}, {} spp) in {:.1f}s", i, camera.width(), camera.height(),
                    options.spp, t.seconds());
     }
-    const cv::Mat exposed = render * exposure;
     vs.score = score(exposed, view.photo);
     result.views.push_back(vs);
 

@@ -7,9 +7,10 @@
 //   ps::eval::writeMetricsJson("OUT", e, {{"geometry", 1.2}, {"select", 30.5}}, "balanced");
 //
 // What is compared (every number in both color spaces of metrics.hpp: srgb255 and linear):
-//   views   input view i: R_i * exposure[i] against photo i, whole image (RMSE, PSNR, SSIM, GMSD).
-//           R_i is OUT/renders/view<i>.exr when present and of the photo's size (a render BEFORE
-//           exposure, as the path tracer gives it), else the twin path-traced here at options.spp.
+//   views   input view i: the twin's render times exposure[i] (OUT/lights.json) against photo i,
+//           whole image (RMSE, PSNR, SSIM, GMSD). The render is OUT/renders/view<i>.exr when present
+//           and of the photo's size (written WITH the exposure applied, as `photoscene render OUT`
+//           writes input views), else the twin path-traced here at options.spp times exposure[i].
 //   parts   the paper's per-part error: RMSE over the part's aligned mask M_aln (photo frame).
 //           The G-buffer of the twin's geometry gives M_geo; the view's label image (regions
 //           matched to parts with align::matchRegions, segment_parts pinned) or, without one,
