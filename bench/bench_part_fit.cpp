@@ -1,22 +1,39 @@
 // Run time against error of the per-part material fit: synthetic parts (graphs x lightings) fitted
-// with each preset; prints a table (time per part, texture-feature distance, mean-albedo error,
-// UV rotation / scale error against the truth).
+// with each preset and each iteration budget; prints a table (time per part, texture-feature
+// distance, mean-albedo error, UV rotation / scale error against the truth) and, with --plot,
+// draws error against seconds into a PNG (OpenCV imgproc, no Python).
 //
 //   ps_bench_part_fit [presets (comma list, default fast,balanced)] [graphs (default wood_planks,tile_checker)]
+//                     [--iters 30,60,120 (budgets; 0 = the preset's own; default 0)]
+//                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
+//                     [--set "key=value;..." (PartFitOptions fields after the preset)]
+//                     [--plot file.png] [--csv file.csv]
+//
+// "seconds" is wall time of fitPart, "cpu" the process CPU time over the same call (with one
+// thread, the number to compare on a loaded machine).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/core/parallel.hpp"
 #include "photoscene/graph.hpp"
+#include "photoscene/io/image_io.hpp"
 #include "photoscene/optim.hpp"
 #include "../modules/render/test/synthetic_room.hpp"
 
 using namespace ps;
 using namespace ps::testroom;
 
-static std::vector<std::string> split(const std::string& s) {
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
   std::string item;
@@ -24,14 +41,175 @@ static std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+struct Row {
+  std::string graph, preset;
+  float light = 0;
+  int budget = 0;
+  double seconds = 0, cpu = 0, texStart = 0, texEnd = 0, atTruth = 0, albedoErr = 0, rot = 0, rot90 = 0, scale = 0;
+  int iterations = 0, candidates = 0;
+};
+
+// Error against seconds, log-log, one marker per run: colour = preset, shape = graph; left panel the
+// texture-feature distance, right panel the mean-albedo error.
+void plot(const std::vector<Row>& rows, const std::string& path) {
+  const int W = 1100, H = 520, panelW = 500, panelH = 400, top = 50, left0 = 70, gap = 560;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::vector<cv::Scalar> palette = {{200, 80, 30}, {30, 140, 30}, {30, 30, 200}, {150, 30, 150}, {0, 150, 200}};
+  std::map<std::string, int> presetIdx, graphIdx;
+  for (const Row& r : rows) {
+    presetIdx.emplace(r.preset, static_cast<int>(presetIdx.size()));
+    graphIdx.emplace(r.graph, static_cast<int>(graphIdx.size()));
+  }
+  double smin = 1e30, smax = 0;
+  for (const Row& r : rows) smin = std::min(smin, r.seconds), smax = std::max(smax, r.seconds);
+  const double lx0 = std::floor(std::log10(std::max(1e-3, smin))), lx1 = std::ceil(std::log10(std::max(smax, smin * 1.01)));
+  for (int panel = 0; panel < 2; ++panel) {
+    double emin = 1e30, emax = 0;
+    auto err = [&](const Row& r) { return std::max(1e-5, panel == 0 ? r.texEnd : r.albedoErr); };
+    for (const Row& r : rows) emin = std::min(emin, err(r)), emax = std::max(emax, err(r));
+    const double ly0 = std::floor(std::log10(emin)), ly1 = std::ceil(std::log10(emax * 1.01));
+    const int ox = left0 + panel * gap, oy = top + panelH;
+    auto X = [&](double s) { return ox + static_cast<int>((std::log10(s) - lx0) / (lx1 - lx0) * panelW); };
+    auto Y = [&](double e) { return oy - static_cast<int>((std::log10(e) - ly0) / (ly1 - ly0) * panelH); };
+    cv::rectangle(img, cv::Point(ox, top), cv::Point(ox + panelW, oy), cv::Scalar(0, 0, 0), 1);
+    for (double d = lx0; d <= lx1 + 1e-9; d += 1) {
+      const int x = X(std::pow(10.0, d));
+      cv::line(img, cv::Point(x, top), cv::Point(x, oy), cv::Scalar(220, 220, 220), 1);
+      char b[32];
+      std::snprintf(b, sizeof b, "%g", std::pow(10.0, d));
+      cv::putText(img, b, cv::Point(x - 12, oy + 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    }
+    for (double d = ly0; d <= ly1 + 1e-9; d += 1) {
+      const int y = Y(std::pow(10.0, d));
+      cv::line(img, cv::Point(ox, y), cv::Point(ox + panelW, y), cv::Scalar(220, 220, 220), 1);
+      char b[32];
+      std::snprintf(b, sizeof b, "%g", std::pow(10.0, d));
+      cv::putText(img, b, cv::Point(ox - 60, y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    }
+    cv::putText(img, panel == 0 ? "final texture-feature distance" : "mean-albedo error (max over channels)",
+                cv::Point(ox + 60, top - 15), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(img, "seconds per part (wall)", cv::Point(ox + 170, oy + 40), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    // one polyline per (graph, light, preset) through its budgets
+    std::map<std::string, std::vector<cv::Point>> lines;
+    for (const Row& r : rows) {
+      const cv::Point p(X(r.seconds), Y(err(r)));
+      const cv::Scalar col = palette[presetIdx[r.preset] % palette.size()];
+      const int shape = graphIdx[r.graph];
+      if (shape % 3 == 0) cv::circle(img, p, 5, col, 2, cv::LINE_AA);
+      else if (shape % 3 == 1) cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), col, 2);
+      else cv::drawMarker(img, p, col, cv::MARKER_TRIANGLE_UP, 11, 2);
+      char key[256];
+      std::snprintf(key, sizeof key, "%s/%g/%s", r.graph.c_str(), r.light, r.preset.c_str());
+      lines[key].push_back(p);
+    }
+    for (auto& [key, pts] : lines) {
+      const std::string preset = key.substr(key.rfind('/') + 1);
+      if (pts.size() > 1) cv::polylines(img, pts, false, palette[presetIdx[preset] % palette.size()], 1, cv::LINE_AA);
+    }
+  }
+  // legend
+  int lx = left0, ly = H - 25;
+  for (auto& [name, i] : presetIdx) {
+    cv::circle(img, cv::Point(lx, ly - 4), 5, palette[i % palette.size()], -1, cv::LINE_AA);
+    cv::putText(img, name, cv::Point(lx + 10, ly), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    lx += 120;
+  }
+  for (auto& [name, i] : graphIdx) {
+    const cv::Point p(lx, ly - 4);
+    if (i % 3 == 0) cv::circle(img, p, 5, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+    else if (i % 3 == 1) cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), cv::Scalar(0, 0, 0), 2);
+    else cv::drawMarker(img, p, cv::Scalar(0, 0, 0), cv::MARKER_TRIANGLE_UP, 11, 2);
+    cv::putText(img, name, cv::Point(lx + 10, ly), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    lx += 150;
+  }
+  cv::Mat rgb;  // drawn in OpenCV's BGR; ps::io writes RGB
+  cv::cvtColor(img, rgb, cv::COLOR_BGR2RGB);
+  io::writeRawImage(path, rgb);
+}
+
+// "--set key=value;key=value" overrides PartFitOptions fields after the preset.
+void applyOverrides(PartFitOptions& o, const std::string& spec) {
+  std::stringstream ss(spec);
+  std::string kv;
+  while (std::getline(ss, kv, ';')) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string k = kv.substr(0, eq);
+    const double v = std::stod(kv.substr(eq + 1));
+    const int i = static_cast<int>(v);
+    if (k == "maxIterations") o.maxIterations = i;
+    else if (k == "mapSize") o.mapSize = i;
+    else if (k == "learningRate") o.learningRate = static_cast<float>(v);
+    else if (k == "uvLearningRate") o.uvLearningRate = static_cast<float>(v);
+    else if (k == "uvSearchEvery") o.uvSearchEvery = i;
+    else if (k == "searchRotations") o.searchRotations = i;
+    else if (k == "searchLogScales") o.searchLogScales = i;
+    else if (k == "searchOffsets") o.searchOffsets = i;
+    else if (k == "refineSteps") o.refineSteps = i;
+    else if (k == "specularSub") o.specularSub = i;
+    else if (k == "searchSpecularSub") o.searchSpecularSub = i;
+    else if (k == "coarseLevels") o.coarseLevels = i;
+    else if (k == "searchLevels") o.searchLevels = i;
+    else if (k == "fineIterations") o.fineIterations = i;
+    else if (k == "minLevelPixels") o.minLevelPixels = i;
+    else if (k == "searchKeep") o.searchKeep = i;
+    else if (k == "plateauWindow") o.plateau.window = i;
+    else if (k == "plateauMinIterations") o.plateau.minIterations = i;
+    else if (k == "plateauRel") o.plateau.minRelativeImprovement = v;
+    else {
+      std::fprintf(stderr, "--set: unknown option %s\n", k.c_str());
+      std::exit(2);
+    }
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  const std::vector<std::string> presets = split(argc > 1 ? argv[1] : "fast,balanced");
-  const std::vector<std::string> graphs = split(argc > 2 ? argv[2] : "wood_planks,tile_checker");
+  std::vector<std::string> positional;
+  std::vector<int> budgets = {0};
+  std::vector<float> lights = {12.0f, 30.0f};
+  int W = 160, H = 120, threads = 1;
+  std::string plotPath, csvPath, overrides;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--iters") {
+      budgets.clear();
+      for (const std::string& s : split(next())) budgets.push_back(std::stoi(s));
+    } else if (a == "--lights") {
+      lights.clear();
+      for (const std::string& s : split(next())) lights.push_back(std::stof(s));
+    } else if (a == "--size") {
+      if (std::sscanf(next().c_str(), "%dx%d", &W, &H) != 2) return 2;
+    } else if (a == "--threads") {
+      threads = std::stoi(next());
+    } else if (a == "--plot") {
+      plotPath = next();
+    } else if (a == "--set") {
+      overrides = next();
+    } else if (a == "--csv") {
+      csvPath = next();
+    } else {
+      positional.push_back(a);
+    }
+  }
+  const std::vector<std::string> presets = split(positional.size() > 0 ? positional[0] : "fast,balanced");
+  const std::vector<std::string> graphs = split(positional.size() > 1 ? positional[1] : "wood_planks,tile_checker");
+  const ThreadLimit limit(threads);
   const GraphLibrary lib = GraphLibrary::load();
-  std::printf("| graph | light | preset | seconds | iterations | candidates | texture loss start -> end | at truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<Row> rows;
+  std::printf("| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | candidates | texture loss start -> end | at truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& gname : graphs)
-    for (float light : {12.0f, 30.0f}) {
+    for (float light : lights) {
       MaterialGraph truth = lib.create(gname);
       std::vector<float> v = truth.randomValues(21, 0.35f);
       const std::vector<float> d = truth.defaultValues();
@@ -43,7 +221,7 @@ int main(int argc, char** argv) {
       uvTrue.rotation = radians(35.0f);
       uvTrue.logScale = std::log(0.35f);
       uvTrue.offset = Vec2f(0.1f, 0.3f);
-      Room room = makeRoom(160, 120, light);
+      Room room = makeRoom(W, H, light);
       std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f), lambert("ceiling", 0.8f),
                                         lambert("box", 0.6f)};
       const MaterialMaps tm = truth.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
@@ -59,29 +237,66 @@ int main(int argc, char** argv) {
       ro.seed = 3;
       ro.filter = PixelFilter::Box;
       ro.filterWidth = 1.0f;
-      const cv::Mat photo = tracer.render(room.camera, ro);
-      const testroom::View view = prepareView(tracer, room.camera, 8, 8, 9);
+      cv::Mat photo;
+      testroom::View view;
+      {
+        const ThreadLimit all(0);  // the scene is set up with every core; only the fit is timed
+        photo = tracer.render(room.camera, ro);
+        view = prepareView(tracer, room.camera, 8, 8, 9);
+      }
       const PartGeometry geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(), view.grid,
                                                    view.gbuffer.mask[room.floor], room.floor);
       const TextureLossTarget target(photo, view.gbuffer.mask[room.floor]);
-      for (const std::string& preset : presets) {
-        PartFitOptions o = PartFitOptions::preset(preset);
-        PartFitOptions z = o;
-        z.maxIterations = 0;
-        const PartFitResult atTruth = fitPart(truth, geo, photo, target, z, uvTrue);
-        const PartFitResult r = fitPart(lib.get(gname), geo, photo, target, o);
-        MaterialGraph fitted = lib.create(gname);
-        fitted.setValues(r.values);
-        const cv::Scalar mf = cv::mean(fitted.evaluate(256, MapSet::of({MapKind::Albedo})).albedo), mt = cv::mean(tm.albedo);
-        const double aerr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
-        double rot = degrees(r.uv.rotation - uvTrue.rotation);
-        rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
-        const double rot90 = std::fmod(std::fmod(rot, 90.0) + 135.0, 90.0) - 45.0;  // square tiles
-        std::printf("| %s | %.0f | %s | %.1f | %d | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n", gname.c_str(), light,
-                    preset.c_str(), r.seconds, r.iterations, r.candidates, r.initialTextureLoss, r.lossTexture,
-                    atTruth.initialTextureLoss, aerr, rot, rot90, std::exp(r.uv.logScale - uvTrue.logScale));
-        std::fflush(stdout);
-      }
+      std::fprintf(stderr, "%s light %g: %dx%d, part of %d pixels\n", gname.c_str(), light, W, H, geo.size());
+      for (const std::string& preset : presets)
+        for (int budget : budgets) {
+          PartFitOptions o = PartFitOptions::preset(preset);
+          applyOverrides(o, overrides);
+          if (budget > 0) o.maxIterations = budget;
+          PartFitOptions z = o;
+          z.maxIterations = 0;
+          const PartFitResult atTruth = fitPart(truth, geo, photo, target, z, uvTrue);
+          const std::clock_t c0 = std::clock();
+          const PartFitResult r = fitPart(lib.get(gname), geo, photo, target, o);
+          const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+          MaterialGraph fitted = lib.create(gname);
+          fitted.setValues(r.values);
+          const cv::Scalar mf = cv::mean(fitted.evaluate(256, MapSet::of({MapKind::Albedo})).albedo), mt = cv::mean(tm.albedo);
+          Row row;
+          row.graph = gname;
+          row.preset = preset;
+          row.light = light;
+          row.budget = o.maxIterations;
+          row.seconds = r.seconds;
+          row.cpu = cpu;
+          row.iterations = r.iterations;
+          row.candidates = r.candidates;
+          row.texStart = r.initialTextureLoss;
+          row.texEnd = r.lossTexture;
+          row.atTruth = atTruth.initialTextureLoss;
+          row.albedoErr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
+          double rot = degrees(r.uv.rotation - uvTrue.rotation);
+          rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
+          row.rot = rot;
+          row.rot90 = std::fmod(std::fmod(rot, 90.0) + 135.0, 90.0) - 45.0;  // square tiles
+          row.scale = std::exp(r.uv.logScale - uvTrue.logScale);
+          rows.push_back(row);
+          std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
+                      gname.c_str(), light, preset.c_str(), row.budget, row.seconds, row.cpu, r.searchSeconds, row.iterations, r.coarseIterations,
+                      row.candidates, row.texStart, row.texEnd, row.atTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+          std::fflush(stdout);
+        }
     }
+  if (!csvPath.empty()) {
+    if (FILE* f = std::fopen(csvPath.c_str(), "w")) {
+      std::fprintf(f, "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,at_truth,albedo_err,rot,rot90,scale\n");
+      for (const Row& r : rows)
+        std::fprintf(f, "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f\n", r.graph.c_str(), r.light,
+                     r.preset.c_str(), r.budget, r.seconds, r.cpu, r.iterations, r.candidates, r.texStart, r.texEnd,
+                     r.atTruth, r.albedoErr, r.rot, r.rot90, r.scale);
+      std::fclose(f);
+    }
+  }
+  if (!plotPath.empty()) plot(rows, plotPath);
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"
@@ -63,6 +64,10 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (specularSub < 1 || specularSub > 8 || searchSpecularSub < 1 || searchSpecularSub > 8)
     return fail("specularSub must be in [1, 8]");
   if (restarts < 0 || restartProbeIterations < 1) return fail("bad restart settings");
+  if (coarseLevels < 0 || coarseLevels > 4 || searchLevels < 0 || searchLevels > 4)
+    return fail("coarseLevels and searchLevels must be in [0, 4]");
+  if (fineIterations < 0 || minLevelPixels < 1 || searchKeep < 1)
+    return fail("fineIterations must be >= 0, minLevelPixels and searchKeep >= 1");
   if (!plateau.IsValid(error)) return false;
   return true;
 }
@@ -114,11 +119,40 @@ struct FitState {
   UvParams uv;
 };
 
+// The part at one resolution: level 0 is the caller's, level i + 1 halves level i.
+struct Level {
+  const PartGeometry* geo = nullptr;
+  cv::Mat photo;
+  const TextureLossTarget* target = nullptr;
+  std::unique_ptr<PartGeometry> ownGeo;
+  std::unique_ptr<TextureLossTarget> ownTarget;
+};
+
 class PartFitter {
  public:
   PartFitter(const MaterialGraph& g, const PartGeometry& geo, const cv::Mat& photo, const TextureLossTarget& target,
              const PartFitOptions& o)
-      : graph_(g.clone()), geo_(geo), photo_(photo), target_(target), o_(o) {
+      : graph_(g.clone()), o_(o) {
+    levels_.emplace_back();
+    levels_[0].geo = &geo;
+    levels_[0].photo = photo;
+    levels_[0].target = &target;
+    const int want = std::max(o.coarseLevels, o.searchLevels);
+    while (static_cast<int>(levels_.size()) <= want) {
+      const Level& f = levels_.back();
+      cv::Mat mask;
+      auto cg = std::make_unique<PartGeometry>(downsamplePartGeometry(*f.geo, &mask));
+      if (cg->size() < o.minLevelPixels) break;
+      Level c;
+      c.photo = downsampleImage(*cg, f.photo);
+      c.ownTarget = std::make_unique<TextureLossTarget>(c.photo, mask, target.options());
+      c.target = c.ownTarget.get();
+      c.ownGeo = std::move(cg);
+      c.geo = c.ownGeo.get();
+      levels_.push_back(std::move(c));
+    }
+    coarseLevel_ = std::min(o.coarseLevels, static_cast<int>(levels_.size()) - 1);
+    searchLevel_ = std::min(o.searchLevels, static_cast<int>(levels_.size()) - 1);
     const auto& params = graph_.parameters();
     const int n = graph_.valueCount();
     lo_.assign(n, 0.0f);
@@ -136,10 +170,14 @@ class PartFitter {
   };
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
-  Eval evaluate(const MaterialMaps& maps, const UvParams& uv, float roughness, int sub, RenderLayerGradients* grads,
-                cv::Mat* renderOut = nullptr, bool matchMeans = false) {
+  Eval evaluate(int level, const MaterialMaps& maps, const UvParams& uv, float roughness, int sub,
+                RenderLayerGradients* grads, cv::Mat* renderOut = nullptr, bool matchMeans = false) {
+    const Level& lv = levels_[level];
+    const PartGeometry& geo = *lv.geo;
+    const cv::Mat& photo = lv.photo;
+    const TextureLossTarget& target = *lv.target;
     RenderLayerParams p;
-    p.geometry = &geo_;
+    p.geometry = &geo;
     p.albedo = maps.albedo;
     p.normal = maps.normal;
     p.roughnessValue = roughness;
@@ -150,8 +188,8 @@ class PartFitter {
       // the search compares patterns, not colours: the render's masked channel means are scaled to
       // the photo's first (the continuous fit then moves the colours)
       double mr[3] = {0, 0, 0}, mp[3] = {0, 0, 0};
-      for (const cv::Point& q : geo_.pixels) {
-        const cv::Vec3f a = p.image.at<cv::Vec3f>(q), b = photo_.at<cv::Vec3f>(q);
+      for (const cv::Point& q : geo.pixels) {
+        const cv::Vec3f a = p.image.at<cv::Vec3f>(q), b = photo.at<cv::Vec3f>(q);
         for (int c = 0; c < 3; ++c) mr[c] += a[c], mp[c] += b[c];
       }
       const cv::Scalar gain(mr[0] > 1e-9 ? mp[0] / mr[0] : 1.0, mr[1] > 1e-9 ? mp[1] / mr[1] : 1.0,
@@ -160,10 +198,10 @@ class PartFitter {
     }
     Eval e;
     cv::Mat gStat;
-    e.stat = o_.statWeight > 0 ? statLoss(photo_, p.image, geo_.pixels, grads ? &gStat : nullptr) : 0.0;
+    e.stat = o_.statWeight > 0 ? statLoss(photo, p.image, geo.pixels, grads ? &gStat : nullptr) : 0.0;
     if (o_.textureWeight > 0) {
       TextureLossParams tp;
-      tp.target = &target_;
+      tp.target = &target;
       tp.render = p.image;
       e.tex = textureLossForward(tp);
       if (grads) {
@@ -195,18 +233,18 @@ class PartFitter {
   }
 
   // Discrete UV search with the maps of `values`; returns the best transform and its loss.
+  // Discrete UV search with the maps of `values`; returns the best transform and its loss. With a
+  // coarse search level, the grid is ranked there and its `searchKeep` best (and the current
+  // transform) are compared again at full resolution, where the refinement runs.
   UvParams search(const FitState& s, double* bestLoss, int* candidates) {
     const MaterialMaps m = maps(s.values);
-    UvParams best = s.uv;
-    double bl = evaluate(m, s.uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
-    ++*candidates;
-    auto tryUv = [&](const UvParams& uv) {
-      const double l = evaluate(m, uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
+    auto loss = [&](int level, const UvParams& uv) {
       ++*candidates;
-      if (l < bl) bl = l, best = uv;
+      return evaluate(level, m, uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
     };
     const double rotStep = kTwoPi / o_.searchRotations;
     const double lsStep = o_.searchLogScales > 1 ? (o_.logScaleMax - o_.logScaleMin) / (o_.searchLogScales - 1) : 0.0;
+    std::vector<std::pair<double, UvParams>> grid;
     for (int i = 0; i < o_.searchRotations; ++i)
       for (int j = 0; j < o_.searchLogScales; ++j)
         for (int a = 0; a < o_.searchOffsets; ++a)
@@ -216,8 +254,23 @@ class PartFitter {
             uv.logScale = o_.searchLogScales > 1 ? static_cast<float>(o_.logScaleMin + j * lsStep)
                                                  : s.uv.logScale;
             uv.offset = o_.searchOffsets > 1 ? Vec2f(float(a) / o_.searchOffsets, float(b) / o_.searchOffsets) : s.uv.offset;
-            tryUv(uv);
+            grid.emplace_back(loss(searchLevel_, uv), uv);
           }
+    UvParams best = s.uv;
+    double bl = loss(0, s.uv);
+    auto tryUv = [&](const UvParams& uv) {
+      const double l = loss(0, uv);
+      if (l < bl) bl = l, best = uv;
+    };
+    if (searchLevel_ == 0) {
+      for (const auto& [l, uv] : grid)
+        if (l < bl) bl = l, best = uv;
+    } else {
+      const size_t keep = std::min(grid.size(), static_cast<size_t>(o_.searchKeep));
+      std::partial_sort(grid.begin(), grid.begin() + keep, grid.end(),
+                        [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (size_t i = 0; i < keep; ++i) tryUv(grid[i].second);
+    }
     // coarse to fine: halve the steps around the best
     double rs = rotStep, ls = lsStep;
     for (int r = 0; r < o_.refineSteps; ++r) {
@@ -239,7 +292,8 @@ class PartFitter {
 
   // Runs up to `iterations` Adam steps from `s` (search first when `searchFirst`); returns the
   // best state seen and its loss.
-  double run(FitState& s, int iterations, bool searchFirst, PartFitResult& res, bool record) {
+  double run(FitState& s, int iterations, bool searchFirst, bool searchAgain, int level, PartFitResult& res,
+             bool record) {
     const int n = graph_.valueCount();
     const int N = n + 5;
     std::vector<float> x(N), lower(N), upper(N), scales(N, 1.0f);
@@ -277,10 +331,13 @@ class PartFitter {
     FitState best = s;
     double bestLoss = std::numeric_limits<double>::infinity();
     for (int it = 0; it < iterations; ++it) {
-      const bool doSearch = (it == 0 && searchFirst) || (o_.uvSearchEvery > 0 && it > 0 && it % o_.uvSearchEvery == 0);
+      const bool doSearch =
+          (it == 0 && searchFirst) || (searchAgain && o_.uvSearchEvery > 0 && it > 0 && it % o_.uvSearchEvery == 0);
       if (doSearch) {
         double sl = 0;
+        const Timer st;
         const UvParams uv = search(s, &sl, &res.candidates);
+        res.searchSeconds += st.seconds();
         ++res.searches;
         if (uv.rotation != s.uv.rotation || uv.logScale != s.uv.logScale || uv.offset != s.uv.offset) {
           s.uv = uv;
@@ -290,7 +347,7 @@ class PartFitter {
       }
       const MaterialMaps m = maps(s.values);
       RenderLayerGradients g;
-      const Eval e = evaluate(m, s.uv, s.roughness, o_.specularSub, &g);
+      const Eval e = evaluate(level, m, s.uv, s.roughness, o_.specularSub, &g);
       if (record) res.history.push_back(e.loss);
       if (e.loss < bestLoss) bestLoss = e.loss, best = s;
       if (plateau.update(e.loss)) {
@@ -313,11 +370,12 @@ class PartFitter {
     return bestLoss;
   }
 
+  int coarseLevel() const { return coarseLevel_; }
+
   MaterialGraph graph_;
-  const PartGeometry& geo_;
-  const cv::Mat& photo_;
-  const TextureLossTarget& target_;
   PartFitOptions o_;
+  std::vector<Level> levels_;
+  int coarseLevel_ = 0, searchLevel_ = 0;
   std::vector<float> lo_, hi_;
   std::vector<uint8_t> mask_;
 };
@@ -340,12 +398,13 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   const float meanR = f.meanRoughness(start.values);
   start.roughness = clampv(meanR, 0.02f, 1.0f);
   {
-    const PartFitter::Eval e0 = f.evaluate(f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
+    const PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
     res.initialLoss = e0.loss;
     res.initialTextureLoss = e0.tex;
   }
   FitState s = start;
   int remaining = options.maxIterations;
+  const int coarse = f.coarseLevel();
   if (options.restarts > 0 && options.maxIterations > options.restartProbeIterations) {
     // probes: the start and `restarts` random draws, each a short run; the best is continued
     double bestProbe = std::numeric_limits<double>::infinity();
@@ -353,14 +412,23 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     for (int r = 0; r <= options.restarts; ++r) {
       FitState p = start;
       if (r > 0) p.values = graph.randomValues(options.seed + 7919 * r, options.restartSpread);
-      const double l = f.run(p, options.restartProbeIterations, true, res, false);
+      const double l = f.run(p, options.restartProbeIterations, true, true, coarse, res, false);
       if (l < bestProbe) bestProbe = l, bestState = p;
     }
     s = bestState;
     remaining -= options.restartProbeIterations;
   }
-  f.run(s, remaining, options.restarts == 0, res, true);
-  const PartFitter::Eval e = f.evaluate(f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
+  if (coarse > 0) {
+    // coarse to fine: the searches and most steps on the downsampled part, the last steps at full
+    // resolution from the coarse phase's best state
+    const int fine = std::min(remaining, options.fineIterations);
+    f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
+    res.coarseIterations = static_cast<int>(res.history.size());
+    if (fine > 0) f.run(s, fine, false, false, 0, res, true);
+  } else {
+    f.run(s, remaining, options.restarts == 0, true, 0, res, true);
+  }
+  const PartFitter::Eval e = f.evaluate(0, f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
   res.values = s.values;
   res.uv = s.uv;
   res.roughness = s.roughness;

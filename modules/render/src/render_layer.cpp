@@ -156,6 +156,79 @@ PartGeometry preparePartGeometry(const GBuffer& gb, const Vec3f& cameraCenter, c
   return g;
 }
 
+PartGeometry downsamplePartGeometry(const PartGeometry& f, cv::Mat* maskOut) {
+  PS_Check(f.data.size() == f.pixels.size() && f.light.size() == f.pixels.size() * static_cast<size_t>(f.bins) * 3,
+           "downsamplePartGeometry: inconsistent PartGeometry");
+  PartGeometry c;
+  c.imageSize = cv::Size(f.imageSize.width / 2, f.imageSize.height / 2);
+  c.part = f.part;
+  c.bins = f.bins;
+  c.thetaBins = f.thetaBins;
+  c.phiBins = f.phiBins;
+  c.binSolidAngle = f.binSolidAngle;
+  c.binDir = f.binDir;
+  cv::Mat index(f.imageSize, CV_32SC1, cv::Scalar(-1));
+  for (int k = 0; k < f.size(); ++k) index.at<int>(f.pixels[k]) = k;
+  cv::Mat mask(c.imageSize, CV_8UC1, cv::Scalar(0));
+  const int B3 = f.bins * 3;
+  for (int y = 0; y < c.imageSize.height; ++y)
+    for (int x = 0; x < c.imageSize.width; ++x) {
+      int ks[4];
+      bool all = true;
+      for (int j = 0; j < 4 && all; ++j) {
+        ks[j] = index.at<int>(2 * y + j / 2, 2 * x + j % 2);
+        all = ks[j] >= 0;
+      }
+      if (!all) continue;
+      PartGeometry::Pixel px;
+      px.uv = Vec2f::Zero();
+      px.wo = Vec3f::Zero();
+      float fp = 0, J[4] = {0, 0, 0, 0};
+      bool frameOk = true, fpOk = true;
+      for (int k : ks) {
+        const PartGeometry::Pixel& q = f.data[k];
+        px.uv += 0.25f * q.uv;
+        px.wo += q.wo;
+        fp += 0.25f * q.footprint;
+        fpOk = fpOk && q.footprint > 0;
+        for (int i = 0; i < 4; ++i) J[i] += 0.25f * q.J[i];
+        frameOk = frameOk && q.frameOk;
+      }
+      // a uv seam inside the block: the four uvs spread far more than the pixel footprint
+      float spread = 0;
+      for (int k : ks) spread = std::max(spread, (f.data[k].uv - px.uv).norm());
+      if (!(spread <= 4 * std::max(fp, 1e-6f))) continue;
+      const float wl = px.wo.norm();
+      px.wo = wl > 0 ? Vec3f(px.wo / wl) : Vec3f(0, 0, 1);
+      px.footprint = fpOk ? 2 * fp : 0.0f;
+      std::copy(J, J + 4, px.J);
+      px.frameOk = frameOk;
+      c.pixels.emplace_back(x, y);
+      c.data.push_back(px);
+      const size_t base = c.light.size();
+      c.light.resize(base + B3, 0.0f);
+      for (int k : ks) {
+        const float* L = &f.light[static_cast<size_t>(k) * B3];
+        for (int i = 0; i < B3; ++i) c.light[base + i] += 0.25f * L[i];
+      }
+      mask.at<uint8_t>(y, x) = 255;
+    }
+  if (maskOut) *maskOut = mask;
+  return c;
+}
+
+cv::Mat downsampleImage(const PartGeometry& c, const cv::Mat& fine) {
+  PS_Check(fine.type() == CV_32FC3 && fine.cols >= 2 * c.imageSize.width && fine.rows >= 2 * c.imageSize.height,
+           "downsampleImage: the image must be CV_32FC3 of the fine geometry's size");
+  cv::Mat out(c.imageSize, CV_32FC3, cv::Scalar::all(0));
+  for (const cv::Point& p : c.pixels) {
+    const cv::Vec3f v = fine.at<cv::Vec3f>(2 * p.y, 2 * p.x) + fine.at<cv::Vec3f>(2 * p.y, 2 * p.x + 1) +
+                        fine.at<cv::Vec3f>(2 * p.y + 1, 2 * p.x) + fine.at<cv::Vec3f>(2 * p.y + 1, 2 * p.x + 1);
+    out.at<cv::Vec3f>(p) = 0.25f * v;
+  }
+  return out;
+}
+
 std::vector<Vec3f> gatherPixels(const PartGeometry& g, const cv::Mat& image) {
   std::vector<Vec3f> out;
   out.reserve(g.pixels.size());

@@ -50,6 +50,19 @@ struct PartFitOptions {
   int refineSteps = 2;             ///< coarse-to-fine: halvings of the search steps around the best
   int specularSub = 1;             ///< the layer's specularSub during the Adam iterations
   int searchSpecularSub = 1;       ///< the layer's specularSub during searches (cheaper)
+  /// Coarse to fine in image space: the part is also seen at 1/2, 1/4, ... of the photo's
+  /// resolution (ps::downsamplePartGeometry; the texture loss on the photo downsampled the same
+  /// way). The first maxIterations - fineIterations Adam steps run `coarseLevels` halvings down,
+  /// the last `fineIterations` at full resolution (no searches there); the UV searches compare at
+  /// `searchLevels` halvings: the grid is ranked there, its `searchKeep` best are compared again at
+  /// full resolution and the refinement runs there. A level is used only if it keeps
+  /// >= minLevelPixels pixels (else the finest coarser one that does). 0 = full resolution
+  /// throughout (the paper).
+  int coarseLevels = 1;
+  int searchLevels = 2;
+  int searchKeep = 8;
+  int fineIterations = 40;
+  int minLevelPixels = 1500;
   PlateauOptions plateau{20, 2e-3, 60};
   int restarts = 0;                ///< random starts probed besides the defaults
   int restartProbeIterations = 30; ///< iterations each start gets before the best is continued
@@ -73,8 +86,12 @@ struct PartFitResult {
   int searches = 0;                ///< discrete UV searches run
   int candidates = 0;              ///< UV candidates evaluated
   double seconds = 0;
+  double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
-  std::vector<double> history;     ///< loss per iteration of the continued start
+  /// loss per iteration of the continued start, at the resolution that iteration ran at (the
+  /// coarse iterations' losses are not comparable with the fine ones')
+  std::vector<double> history;
+  int coarseIterations = 0;        ///< how many of `history`'s entries ran at a coarse level
   cv::Mat render;                  ///< CV_32FC3 the final render of the part (image size)
 };
 

@@ -89,6 +89,18 @@ struct PartGeometry {
 PartGeometry preparePartGeometry(const GBuffer& gbuffer, const Vec3f& cameraCenter, const IncidentLightGrid& grid,
                                  const cv::Mat& mask, int part);
 
+/// The same part seen at half the resolution (for coarse-to-fine fits): coarse pixel (x, y) covers
+/// the fine pixels (2x..2x+1, 2y..2y+1) and is kept where all four are pixels of the part with
+/// continuous uvs (no seam inside the block). Its uv, uv Jacobian, light and view direction are
+/// the four's means, its footprint twice theirs (the mip level moves up by one), frameOk their
+/// conjunction. imageSize = fine size / 2 (rounded down).
+/// @param mask  if not null, receives the coarse mask (CV_8UC1, 255 on the kept pixels)
+PartGeometry downsamplePartGeometry(const PartGeometry& fine, cv::Mat* mask = nullptr);
+
+/// 2 x 2 box average of a CV_32FC3 image of `fine`'s size onto `coarse`'s pixels (0 elsewhere):
+/// the photo as downsamplePartGeometry's geometry sees it.
+cv::Mat downsampleImage(const PartGeometry& coarse, const cv::Mat& fineImage);
+
 struct RenderLayerWorkspace;  // opaque
 
 struct RenderLayerParams {
