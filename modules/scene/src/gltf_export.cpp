@@ -269,7 +269,10 @@ class GltfBuilder {
         setEmission(model_.materials[mat], it->second, extensions_);
         ++summary_.emitters;
       }
-      const PrimitiveData d = partPrimitive(scene.mesh, part.id, pm.uv, options_.exportTangents);
+      // tangents only serve a normal texture
+      const bool tangents =
+          options_.exportTangents && model_.materials[mat].normalTexture.index >= 0;
+      const PrimitiveData d = partPrimitive(scene.mesh, part.id, pm.uv, tangents);
       if (d.indices.empty()) continue;
       children.push_back(addMesh(model_, part.name, d, mat));
     }
@@ -431,13 +434,9 @@ class GltfBuilder {
     const Vec3f c = l.center, hu = 0.5f * l.edgeU, hv = 0.5f * l.edgeV;
     // corners counter-clockwise seen from the side n points to: (-u,-v), (+u,-v), (+u,+v), (-u,+v)
     const Vec3f corners[4] = {c - hu - hv, c + hu - hv, c + hu + hv, c - hu + hv};
-    const float uvs[4][2] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-    const Vec3f t = l.edgeU.normalized();
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4; ++k) {  // untextured: no UVs, no tangents
       d.positions.insert(d.positions.end(), {corners[k].x(), corners[k].y(), corners[k].z()});
       d.normals.insert(d.normals.end(), {n.x(), n.y(), n.z()});
-      d.uvs.insert(d.uvs.end(), {uvs[k][0], uvs[k][1]});
-      if (options_.exportTangents) d.tangents.insert(d.tangents.end(), {t.x(), t.y(), t.z(), 1.0f});
     }
     d.indices = {0, 1, 2, 0, 2, 3};
     return addMesh(model_, "emitter_" + l.name, d, matId);

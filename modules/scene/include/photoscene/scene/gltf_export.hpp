@@ -37,7 +37,8 @@
 namespace ps {
 
 struct GltfExportOptions {
-  bool exportTangents = true;       ///< write TANGENT (else viewers derive it from TEXCOORD_0)
+  bool exportTangents =
+      true;  ///< write TANGENT for parts with a normal map (else viewers derive it)
   bool includeWindowParts = false;  ///< write window parts as fully transparent (alpha 0) meshes
   bool doubleSided = false;         ///< materials' doubleSided (emitters are always one-sided)
   std::string baseName = "twin";    ///< <baseName>.gltf and <baseName>.bin
