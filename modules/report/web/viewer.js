@@ -33,6 +33,23 @@ function setStatus(container, text, isError) {
   if (isError) el.classList.add('ps-error');
 }
 
+/** World-space area of a mesh's triangles (m^2). */
+function surfaceArea(mesh) {
+  const pos = mesh.geometry.getAttribute('position');
+  const index = mesh.geometry.getIndex();
+  const n = index ? index.count : pos.count;
+  const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Vector3();
+  let area = 0;
+  for (let i = 0; i + 2 < n; i += 3) {
+    const ia = index ? index.getX(i) : i, ib = index ? index.getX(i + 1) : i + 1, ic = index ? index.getX(i + 2) : i + 2;
+    a.fromBufferAttribute(pos, ia).applyMatrix4(mesh.matrixWorld);
+    b.fromBufferAttribute(pos, ib).applyMatrix4(mesh.matrixWorld);
+    c.fromBufferAttribute(pos, ic).applyMatrix4(mesh.matrixWorld);
+    area += 0.5 * b.sub(a).cross(c.sub(a)).length();
+  }
+  return area;
+}
+
 function start(container, config) {
   config = config || {};
   const views = config.views || [];
@@ -166,7 +183,12 @@ function start(container, config) {
       const mat = obj.material;
       if (!mat.emissive || mat.emissive.getHex() === 0) return;
       const box = new THREE.Box3().setFromObject(obj);
-      const light = new THREE.PointLight(mat.emissive.clone(), (mat.emissiveIntensity || 1) * 2.0, 0, 2);
+      // same flux as the emitting surface: a Lambertian emitter of radiance L and area A sends
+      // pi L A, a point light of intensity I sends 4 pi I
+      const area = surfaceArea(obj);
+      const peak = Math.max(mat.emissive.r, mat.emissive.g, mat.emissive.b) * (mat.emissiveIntensity || 1);
+      const color = mat.emissive.clone().multiplyScalar(1 / Math.max(mat.emissive.r, mat.emissive.g, mat.emissive.b));
+      const light = new THREE.PointLight(color, peak * area / 4, 0, 2);
       light.position.copy(box.getCenter(new THREE.Vector3()));
       scene.add(light);
     });
