@@ -17,7 +17,7 @@
 # Prints one markdown table per case (ps_bench_methods_table: seconds per stage and total,
 # input-view RMSE / SSIM / GMSD, novel-view and relit RMSE where the case has ground truth) and
 # writes OUT/error_vs_time_<case>.png; everything printed also goes to OUT/bench_methods.md.
-# --quick: presets fast only (no balanced, paper), eval at 16 spp, --texture-size 256.
+# --quick: presets fast only (no balanced, paper), eval at 32 spp, --texture-size 256.
 # Times are those of metrics.json ("stages", "total_seconds"), as `photoscene run` measured them
 # (its "metrics" stage is the scoring itself). The exemplar bank of graph selection is cached
 # across runs (~/.cache/photoscene or $PS_CACHE_DIR): warm it with one run first for fair times.
@@ -54,7 +54,7 @@ if [[ -z "$METHODS" ]]; then
   if [[ $QUICK -eq 1 ]]; then METHODS="fast pixel-median shading-median"
   else METHODS="fast balanced paper pixel-median shading-median"; fi
 fi
-[[ -z "$EVAL_SPP" ]] && { [[ $QUICK -eq 1 ]] && EVAL_SPP=16 || EVAL_SPP=64; }
+[[ -z "$EVAL_SPP" ]] && { [[ $QUICK -eq 1 ]] && EVAL_SPP=32 || EVAL_SPP=64; }
 RUN_EXTRA=()
 [[ $QUICK -eq 1 ]] && RUN_EXTRA+=(--texture-size 256)
 [[ "$THREADS" != 0 ]] && RUN_EXTRA+=(--threads "$THREADS")

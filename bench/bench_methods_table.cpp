@@ -9,7 +9,8 @@
 // case's ground truth; "-" when the case has none). A method whose OUT_DIR has no metrics.json
 // (the run failed) gets a row of "failed".
 // Plot: x = total seconds (log scale), y = novel-view RMSE where the case has novel ground truth,
-// else input-view RMSE (sRGB 8-bit scale); one labelled point per method.
+// else input-view RMSE (sRGB 8-bit scale); one point per method; a row named gt-twin (the
+// case's true twin, evaluated only) is drawn as a dashed line: the floor set by render noise.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -87,30 +88,32 @@ void load(Method& m) {
 
 void plot(const std::vector<Method>& methods, const std::string& caseName, const fs::path& file) {
   const bool novel = std::any_of(methods.begin(), methods.end(), [](const Method& m) { return std::isfinite(m.novelRmse); });
-  std::vector<std::pair<double, double>> pts;
-  std::vector<std::string> labels;
+  struct Point {
+    double x, y;  // log10 seconds, error
+    std::string label;
+  };
+  std::vector<Point> pts;
+  double floorError = kNaN;  // the true twin's error: a horizontal line
   for (const Method& m : methods) {
     const double y = novel ? m.novelRmse : m.viewRmse;
-    if (!m.ok || !std::isfinite(y) || !(m.total > 0)) continue;
-    pts.emplace_back(std::log10(m.total), y);
-    labels.push_back(m.name);
+    if (!m.ok || !std::isfinite(y)) continue;
+    if (m.name == "gt-twin") floorError = y;
+    else if (m.total > 0) pts.push_back({std::log10(m.total), y, m.name});
   }
-  const int W = 720, H = 480, L = 80, R = 30, T = 50, B = 60;
+  const int W = 760, H = 480, L = 70, R = 200, T = 50, B = 60;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
-  double x0 = 0, x1 = 1, y1 = 1;
+  double x0 = 0, x1 = 1, y1 = std::isfinite(floorError) ? floorError : 1;
   if (!pts.empty()) {
-    x0 = std::floor(std::min_element(pts.begin(), pts.end())->first);
-    x1 = std::ceil(std::max_element(pts.begin(), pts.end())->first);
-    if (x1 <= x0) x1 = x0 + 1;
-    for (const auto& p : pts) y1 = std::max(y1, p.second);
-    y1 *= 1.15;
+    double lo = pts[0].x, hi = pts[0].x;
+    for (const auto& p : pts) lo = std::min(lo, p.x), hi = std::max(hi, p.x), y1 = std::max(y1, p.y);
+    x0 = std::floor(lo - 0.1);
+    x1 = std::ceil(hi + 0.1);
   }
+  y1 *= 1.15;
   auto px = [&](double x, double y) {
-    return cv::Point(L + static_cast<int>((x - x0) / (x1 - x0) * (W - L - R)),
-                     H - B - static_cast<int>(y / y1 * (H - T - B)));
+    return cv::Point(L + static_cast<int>((x - x0) / (x1 - x0) * (W - L - R)), H - B - static_cast<int>(y / y1 * (H - T - B)));
   };
   const cv::Scalar black(0, 0, 0), gray(200, 200, 200);
-  cv::rectangle(img, px(x0, 0), px(x1, y1), black, 1);
   for (double d = x0; d <= x1 + 1e-9; d += 1) {
     for (int k = 2; k < 10 && d < x1; ++k) {
       const double xl = d + std::log10(k);
@@ -125,15 +128,29 @@ void plot(const std::vector<Method>& methods, const std::string& caseName, const
     cv::line(img, px(x0, y), px(x1, y), gray, 1);
     cv::putText(img, fmtNum(y, 1), px(x0, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
   }
-  cv::putText(img, "total seconds (log)", cv::Point(W / 2 - 70, H - 15), cv::FONT_HERSHEY_SIMPLEX, 0.5, black, 1, cv::LINE_AA);
+  cv::rectangle(img, px(x0, 0), px(x1, y1), black, 1);
+  cv::putText(img, "total seconds (log)", cv::Point(L + (W - L - R) / 2 - 70, H - 15), cv::FONT_HERSHEY_SIMPLEX, 0.5, black,
+              1, cv::LINE_AA);
   cv::putText(img, caseName + ": " + (novel ? "novel-view" : "input-view") + " RMSE (sRGB 0-255) against run time",
               cv::Point(L, 30), cv::FONT_HERSHEY_SIMPLEX, 0.55, black, 1, cv::LINE_AA);
   const cv::Scalar colors[] = {{200, 80, 30}, {40, 140, 40}, {30, 30, 200}, {160, 40, 160}, {20, 140, 200}, {90, 90, 90}};
+  int legendY = T + 10;
+  const int legendX = W - R + 15;
   for (size_t i = 0; i < pts.size(); ++i) {
-    const cv::Point p = px(pts[i].first, pts[i].second);
     const cv::Scalar c = colors[i % 6];
-    cv::circle(img, p, 6, c, cv::FILLED, cv::LINE_AA);
-    cv::putText(img, labels[i], p + cv::Point(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.5, c, 1, cv::LINE_AA);
+    cv::circle(img, px(pts[i].x, pts[i].y), 6, c, cv::FILLED, cv::LINE_AA);
+    cv::circle(img, cv::Point(legendX, legendY), 6, c, cv::FILLED, cv::LINE_AA);
+    cv::putText(img, pts[i].label + " " + fmtNum(pts[i].y, 1), cv::Point(legendX + 12, legendY + 5), cv::FONT_HERSHEY_SIMPLEX,
+                0.45, c, 1, cv::LINE_AA);
+    legendY += 22;
+  }
+  if (std::isfinite(floorError)) {
+    const cv::Scalar c(120, 120, 120);
+    for (int x = px(x0, floorError).x; x < px(x1, floorError).x; x += 12)
+      cv::line(img, cv::Point(x, px(x0, floorError).y), cv::Point(x + 6, px(x0, floorError).y), c, 1, cv::LINE_AA);
+    cv::line(img, cv::Point(legendX - 8, legendY), cv::Point(legendX + 8, legendY), c, 1, cv::LINE_AA);
+    cv::putText(img, "true twin " + fmtNum(floorError, 1), cv::Point(legendX + 12, legendY + 5), cv::FONT_HERSHEY_SIMPLEX,
+                0.45, c, 1, cv::LINE_AA);
   }
   cv::imwrite(file.string(), img);
 }
@@ -165,12 +182,18 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::vector<std::string> stageNames;  // in first-seen order
-  for (Method& m : methods) {
-    load(m);
+  // Stages in pipeline order (metrics.json objects are sorted by name), unknown ones after.
+  const std::vector<std::string> order = {"geometry", "align", "lights0", "incident0", "select", "fit", "lights1",
+                                          "incident1", "refine", "baseline-pixel-median", "baseline-shading-median",
+                                          "export", "metrics", "report"};
+  std::vector<std::string> stageNames;
+  for (Method& m : methods) load(m);
+  for (const auto& s : order)
+    if (std::any_of(methods.begin(), methods.end(), [&](const Method& m) { return m.stages.count(s) > 0; }))
+      stageNames.push_back(s);
+  for (const Method& m : methods)
     for (const auto& [k, v] : m.stages)
       if (std::find(stageNames.begin(), stageNames.end(), k) == stageNames.end()) stageNames.push_back(k);
-  }
   std::cout << "### " << caseName << "\n\n| method |";
   for (const auto& s : stageNames) std::cout << " " << s << " s |";
   std::cout << " total s | view RMSE | view SSIM | view GMSD | novel RMSE | relit RMSE |\n|---|";
