@@ -62,12 +62,14 @@ std::optional<fs::path> firstImage(const fs::path& stem) {
 std::optional<io::LightsFileDesc> tryLights(const fs::path& p, std::string* why = nullptr) {
   if (!fs::is_regular_file(p)) return std::nullopt;
   try {
-    io::LightsFileDesc d = io::readLightsJson(p);
-    if (d.emitters.empty() && !d.environment) {
-      if (why) *why = p.string() + ": no emitters and no environment";
+    // Another program's lights description may share some keys (blender-room's lights_relit.json
+    // has an "environment"): only a file with our "emitters" list counts.
+    const nlohmann::json raw = io::readJsonFile(p);
+    if (!raw.is_object() || !raw.contains("emitters") || !raw["emitters"].is_array() || raw["emitters"].empty()) {
+      if (why) *why = p.string() + ": emitters: expected a non-empty list (lights.json form)";
       return std::nullopt;
     }
-    return d;
+    return io::readLightsJson(p);
   } catch (const InputError& e) {
     if (why) *why = e.what();
     return std::nullopt;

@@ -75,7 +75,7 @@ TEST(Eval_TwinEvaluation, ground_truth_is_found_in_both_case_layouts) {
                         "cameras/novel0.json"})
     std::ofstream(dir / f) << "x";
   // novel1 has no camera; relit0's lights come from gt/twin (the case's own file is another form)
-  std::ofstream(dir / "lights_relit.json") << R"({"area": []})";
+  std::ofstream(dir / "lights_relit.json") << R"({"area": [], "environment": {"radiance": [1, 1, 1]}})";
   std::ofstream(dir / "gt" / "twin" / "lights_relit.json") << kLights;
   std::ofstream(dir / "gt" / "twin" / "lights.json") << kLights;
   std::vector<std::string> notes;
