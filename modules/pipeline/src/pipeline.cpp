@@ -14,6 +14,7 @@
 #include "photoscene/align.hpp"
 #include "photoscene/core.hpp"
 #include "photoscene/features.hpp"
+#include "photoscene/io.hpp"
 #include "photoscene/lighting.hpp"
 #include "photoscene/select.hpp"
 
@@ -55,15 +56,18 @@ constexpr uint64_t kCacheVersion = 4;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;
+  // incident-light samples: below 4 per bin the grid's noise reads as texture and the UV fit
+  // runs to a much finer scale (the sample's floor: 0.5 with 4 samples, 6.5 with 2)
+  b.incidentSamples = 8;
   if (preset == "fast") {
     b.lightSpp = 16;
-    b.incidentSamples = 2;
+    b.incidentSamples = 4;
     b.incidentStride = 8;
     b.renderSpp = 32;
     b.refineCandidates = 5;
   } else if (preset == "paper") {
     b.lightSpp = 64;
-    b.incidentSamples = 8;
+    b.incidentSamples = 16;
     b.incidentStride = 4;
     b.renderSpp = 256;
     b.refineCandidates = 9;
@@ -696,6 +700,14 @@ void stageFit(Context& ctx) {
       if (ctx.options.maxFitIterations) o.maxIterations = std::min(o.maxIterations, *ctx.options.maxFitIterations);
       const TextureLossTarget target(photo, mask);
       const PartFitResult r = fitPart(ctx.library->get(p.graph), geo, photo, target, o);
+      if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
+        // photo over the fitted mask | the fit's render, for looking at what the fit did
+        cv::Mat masked = cv::Mat::zeros(photo.size(), CV_32FC3), side;
+        photo.copyTo(masked, mask);
+        cv::hconcat(masked, r.render, side);
+        fs::create_directories(debug);
+        io::writeImage(fs::path(debug) / ("fit-" + p.name + ".png"), side);
+      }
       p.values = r.values;
       p.uv = r.uv;
       p.roughness = r.roughness;
