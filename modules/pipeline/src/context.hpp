@@ -123,7 +123,7 @@ void stageIncident(Context& ctx, bool fitted);
 void stageSelect(Context& ctx);
 void stageFit(Context& ctx);
 void stageBaseline(Context& ctx);
-void stageRefine(Context& ctx);
+void stageRefine(Context& ctx, int round);  ///< 0: before the global light solve, 1: after
 // outputs (outputs.cpp)
 void stageExport(Context& ctx);
 void stageMetrics(Context& ctx, double secondsSoFar);

@@ -52,7 +52,7 @@ int PipelineResult::computedUnits() const {
 namespace pipeline {
 
 // Bump when a stage's algorithm changes so old cache entries are not reused.
-constexpr uint64_t kCacheVersion = 4;
+constexpr uint64_t kCacheVersion = 5;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;
@@ -431,7 +431,7 @@ void stageLights(Context& ctx, bool fitted) {
     stage.computed(0);  // every emitter has a given radiance: nothing to solve
   } else {
     const std::vector<PartMaterial> mats =
-        fitted ? ctx.fittedMaterials(ctx.fitOptions.mapSize, false) : ctx.neutralMaterials();
+        fitted ? ctx.fittedMaterials(ctx.fitOptions.mapSize, true) : ctx.neutralMaterials();
     // the fixed emitters shine at their radiance; the free ones are rendered one at a time
     const PathTracer tracer(ctx.scene, mats);
     std::vector<uint8_t> isFree(ctx.scene.lights.area.size(), 0);
@@ -492,7 +492,7 @@ void stageLights(Context& ctx, bool fitted) {
 void stageIncident(Context& ctx, bool fitted) {
   StageScope stage(ctx, fitted ? "incident1" : "incident0");
   const std::vector<PartMaterial> mats =
-      fitted ? ctx.fittedMaterials(ctx.fitOptions.mapSize, false) : ctx.neutralMaterials();
+      fitted ? ctx.fittedMaterials(ctx.fitOptions.mapSize, true) : ctx.neutralMaterials();
   std::unique_ptr<PathTracer> tracer;
   for (size_t v = 0; v < ctx.views.size(); ++v) {
     ViewWork& view = ctx.views[v];
@@ -558,7 +558,12 @@ void stageSelect(Context& ctx) {
               ExemplarBank::loadOrBuild(*ctx.library, {}, ctx.options.bankCache, &cached));
           spdlog::info("exemplar bank: {} exemplars {}", bank->rows(), cached ? "loaded" : "built");
         }
-        const GraphChoice c = bank->select(computeTextureKey(view.photo, view.photoMask.at(p.id)), 21);
+        // the part's photo in the render frame, where the G-buffer UVs are: selectForPart unwarps
+        // it into texture space and removes smooth shading before the kNN vote
+        const cv::Mat& fit = view.fitMask.at(p.id);
+        const GraphChoice c = cv::countNonZero(fit) > 0
+                                  ? selectForPart(*bank, view.partPhoto(p.id), fit, view.gbuffer.uv)
+                                  : selectForPart(*bank, view.photo, view.photoMask.at(p.id), cv::Mat());
         p.graph = c.graph;
         for (size_t i = 1; i < c.votes.size() && i < 4; ++i) p.runnersUp.push_back(c.votes[i].graph);
       }
@@ -791,15 +796,16 @@ void stageBaseline(Context& ctx) {
 
 // ---------------------------------------------------------------- refine (round 2)
 
-void stageRefine(Context& ctx) {
+void stageRefine(Context& ctx, int round) {
   StageScope stage(ctx, "refine");
+  const std::string entry = fmt::format("refine{}-", round);
   std::vector<int> missing;
   for (PartWork& p : ctx.parts) {
     if (p.mode != PartMode::Fit && p.mode != PartMode::Homogeneous) continue;
     Hasher h;
-    h.add(kCacheVersion).add(p.fitKey).add(ctx.views[p.view].incidentKey).add(ctx.budget.refineCandidates);
+    h.add(kCacheVersion).add(round).add(p.fitKey).add(ctx.views[p.view].incidentKey).add(ctx.budget.refineCandidates);
     p.refineKey = h.digest();
-    if (auto hit = ctx.cache->load("refine-" + p.name, p.refineKey)) {
+    if (auto hit = ctx.cache->load(entry + p.name, p.refineKey)) {
       p.albedoScale = hit->get<float>();
       p.roughnessFactor = hit->get<float>();
       for (int k = 0; k < 3; ++k) p.albedo[k] = hit->get<float>();
@@ -869,7 +875,7 @@ void stageRefine(Context& ctx) {
     for (int k = 0; k < 3; ++k) a.put(p.albedo[k]);
     a.put(p.roughness);
     a.put(p.refineLoss);
-    ctx.cache->store("refine-" + p.name, p.refineKey, a);
+    ctx.cache->store(entry + p.name, p.refineKey, a);
     progress.advance();
   });
   progress.finish();
@@ -994,9 +1000,12 @@ PipelineResult runPipeline(const PipelineOptions& options) {
   if (options.baseline == Baseline::None) {
     stageSelect(ctx);
     stageFit(ctx);
+    // each part's albedo scale under the first lights, so that a part whose fit missed its mean
+    // does not bend the global light solve; then the solve, new grids, and the second round
+    stageRefine(ctx, 0);
     stageLights(ctx, true);
     stageIncident(ctx, true);
-    stageRefine(ctx);
+    stageRefine(ctx, 1);
   } else {
     stageBaseline(ctx);  // under lights0, the lighting both start from
   }
