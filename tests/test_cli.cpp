@@ -1,10 +1,15 @@
 // The command line as a user meets it: exit codes, messages, and nothing written on bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <chrono>
+#include <csignal>
 #include <fstream>
+#include <regex>
+#include <thread>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
@@ -19,6 +24,9 @@ struct Result {
   int exitCode = -1;
   std::string output;  // stdout + stderr
 };
+
+// Every run shares the exemplar-bank cache of the build tree (built once, by whichever test is first).
+const int kCacheEnv = setenv("PS_CACHE_DIR", PS_BINARY_DIR "/photoscene-cache", 0);
 
 Result runPhotoscene(const std::string& args) {
   const std::string cmd = std::string(PHOTOSCENE_BIN) + " " + args + " 2>&1";
@@ -136,15 +144,66 @@ TEST(Cli, bad_input_exits_2_naming_file_and_key_and_writes_nothing) {
   }
 }
 
-TEST(Cli, a_stage_not_built_yet_says_so_exits_1_and_writes_nothing) {
+TEST(Cli, run_writes_a_whole_output_folder_for_a_tiny_scene) {
   CliScene s;
-  const Result r = runPhotoscene("run " + s.write() + " -o " + s.out());
-  if (r.exitCode == 0) GTEST_SKIP() << "the pipeline is built: covered by the end-to-end tests";
-  EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_TRUE(contains(r.output, "not built yet")) << r.output;
-  EXPECT_FALSE(fs::exists(s.out()));
+  const Result r = runPhotoscene("-q run " + s.write() + " -o " + s.out() + " --preset fast --texture-size 16");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* f : {"scene.json", "lights.json", "metrics.json", "twin.gltf", "renders/view0.png",
+                        "materials/floor.json", "materials/walls.json", "materials/ceiling.json"})
+    EXPECT_TRUE(fs::exists(fs::path(s.out()) / f)) << f << "\n" << r.output;
+  // the skipped part says why; the labelled part was fitted in view 0
+  EXPECT_EQ(io::readMaterialJson(fs::path(s.out()) / "materials/ceiling.json").skipped.value_or(""), "skip (scene.json)");
+  EXPECT_EQ(io::readMaterialJson(fs::path(s.out()) / "materials/walls.json").fitView.value_or(-1), 0);
+  // the twin renders from its own folder
+  const Result render = runPhotoscene("render " + s.out() + " --spp 4 -o " + (fs::path(s.out()) / "again.png").string());
+  EXPECT_EQ(render.exitCode, 0) << render.output;
 }
 
+// Ctrl-C during a run: exit 130, only whole files (no temporary left behind), and the rerun
+// continues from the stages that finished.
+TEST(Cli, interrupted_run_leaves_only_whole_files_and_resumes_from_the_cache) {
+  TempDir dir;
+  const fs::path out = dir / "twin";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string o = out.string(), scene = std::string(PS_SAMPLE_DIR) + "/scene.json";
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(PHOTOSCENE_BIN, PHOTOSCENE_BIN, "-q", "run", scene.c_str(), "-o", o.c_str(), "--preset", "fast",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // wait until the first stages are cached, then interrupt
+  bool started = false;
+  for (int i = 0; i < 600 && !started; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::error_code ec;
+    if (fs::exists(out / ".cache", ec))
+      for (const auto& e : fs::directory_iterator(out / ".cache", ec))
+        if (e.path().filename().string().rfind("align-", 0) == 0) started = true;
+  }
+  ASSERT_TRUE(started) << "the run did not reach the align stage in 60 s";
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << e.path();
+    if (e.path().extension() == ".json") EXPECT_NO_THROW(io::readJsonFile(e.path())) << e.path();
+  }
+  // the rerun loads geometry and alignment instead of recomputing them
+  const Result again = runPhotoscene("-q run " + std::string(PS_SAMPLE_DIR) + "/scene.json -o " + out.string() +
+                                     " --preset fast --texture-size 32");
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(again.output, m, std::regex(R"(geometry\s+[\d.]+\s+(\d+)\s+(\d+))"))) << again.output;
+  EXPECT_EQ(m[1], "0") << again.output;
+  EXPECT_EQ(m[2], "1") << again.output;
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+}
 
 /// The bundled sample copied into a temp folder (its gt/twin refers to ../../ files).
 struct SampleCopy {
