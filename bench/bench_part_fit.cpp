@@ -7,7 +7,7 @@
 //                     [--iters 30,60,120 (budgets; 0 = the preset's own; default 0)]
 //                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
 //                     [--set "key=value;..." (PartFitOptions fields after the preset)]
-//                     [--plot file.png] [--csv file.csv]
+//                     [--plot file.png] [--csv file.csv] [--add-csv earlier.csv (rows added to the plot)]
 //
 // "seconds" is wall time of fitPart, "cpu" the process CPU time over the same call (with one
 // thread, the number to compare on a loaded machine).
@@ -49,7 +49,7 @@ struct Row {
   int iterations = 0, candidates = 0;
 };
 
-// Error against seconds, log-log, one marker per run: colour = preset, shape = graph; left panel the
+// Error against CPU seconds (one thread: wall time on a quiet machine), log-log, one marker per run: colour = preset, shape = graph; left panel the
 // texture-feature distance, right panel the mean-albedo error.
 void plot(const std::vector<Row>& rows, const std::string& path) {
   const int W = 1100, H = 520, panelW = 500, panelH = 400, top = 50, left0 = 70, gap = 560;
@@ -61,7 +61,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
     graphIdx.emplace(r.graph, static_cast<int>(graphIdx.size()));
   }
   double smin = 1e30, smax = 0;
-  for (const Row& r : rows) smin = std::min(smin, r.seconds), smax = std::max(smax, r.seconds);
+  for (const Row& r : rows) smin = std::min(smin, r.cpu), smax = std::max(smax, r.cpu);
   const double lx0 = std::floor(std::log10(std::max(1e-3, smin))), lx1 = std::ceil(std::log10(std::max(smax, smin * 1.01)));
   for (int panel = 0; panel < 2; ++panel) {
     double emin = 1e30, emax = 0;
@@ -88,12 +88,12 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
     }
     cv::putText(img, panel == 0 ? "final texture-feature distance" : "mean-albedo error (max over channels)",
                 cv::Point(ox + 60, top - 15), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    cv::putText(img, "seconds per part (wall)", cv::Point(ox + 170, oy + 40), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+    cv::putText(img, "CPU seconds per part (one thread)", cv::Point(ox + 130, oy + 40), cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     // one polyline per (graph, light, preset) through its budgets
     std::map<std::string, std::vector<cv::Point>> lines;
     for (const Row& r : rows) {
-      const cv::Point p(X(r.seconds), Y(err(r)));
+      const cv::Point p(X(r.cpu), Y(err(r)));
       const cv::Scalar col = palette[presetIdx[r.preset] % palette.size()];
       const int shape = graphIdx[r.graph];
       if (shape % 3 == 0) cv::circle(img, p, 5, col, 2, cv::LINE_AA);
@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
   std::vector<int> budgets = {0};
   std::vector<float> lights = {12.0f, 30.0f};
   int W = 160, H = 120, threads = 1;
-  std::string plotPath, csvPath, overrides;
+  std::string plotPath, csvPath, overrides, extraCsv;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -193,6 +193,8 @@ int main(int argc, char** argv) {
       threads = std::stoi(next());
     } else if (a == "--plot") {
       plotPath = next();
+    } else if (a == "--add-csv") {
+      extraCsv = next();
     } else if (a == "--set") {
       overrides = next();
     } else if (a == "--csv") {
@@ -294,6 +296,39 @@ int main(int argc, char** argv) {
         std::fprintf(f, "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f\n", r.graph.c_str(), r.light,
                      r.preset.c_str(), r.budget, r.seconds, r.cpu, r.iterations, r.candidates, r.texStart, r.texEnd,
                      r.atTruth, r.albedoErr, r.rot, r.rot90, r.scale);
+      std::fclose(f);
+    }
+  }
+  if (!extraCsv.empty()) {
+    // rows of an earlier run (e.g. the slow `paper` preset on one case) drawn in the same plot
+    if (FILE* f = std::fopen(extraCsv.c_str(), "r")) {
+      char line[1024];
+      bool header = true;
+      while (std::fgets(line, sizeof line, f)) {
+        if (header) {
+          header = false;
+          continue;
+        }
+        const std::vector<std::string> v = split(std::string(line));
+        if (v.size() < 15) continue;
+        Row r;
+        r.graph = v[0];
+        r.light = std::stof(v[1]);
+        r.preset = v[2];
+        r.budget = std::stoi(v[3]);
+        r.seconds = std::stod(v[4]);
+        r.cpu = std::stod(v[5]);
+        r.iterations = std::stoi(v[6]);
+        r.candidates = std::stoi(v[7]);
+        r.texStart = std::stod(v[8]);
+        r.texEnd = std::stod(v[9]);
+        r.atTruth = std::stod(v[10]);
+        r.albedoErr = std::stod(v[11]);
+        r.rot = std::stod(v[12]);
+        r.rot90 = std::stod(v[13]);
+        r.scale = std::stod(v[14]);
+        rows.push_back(r);
+      }
       std::fclose(f);
     }
   }

@@ -24,23 +24,39 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     o.searchSpecularSub = 2;
     o.plateau = PlateauOptions{50, 1e-4, 200};
     o.restarts = 0;
+    // every Adam step at full resolution, as the paper; the 57,600 search candidates are ranked at
+    // half resolution and the best 16 compared again at full resolution (else a search takes
+    // about 10 minutes per part on one core)
+    o.coarseLevels = 0;
+    o.searchLevels = 1;
+    o.searchKeep = 16;
   } else if (name == "balanced") {
-    o.maxIterations = 300;
+    // chosen with ps_bench_part_fit (modules/optim/README.md): most steps and the search's ranking
+    // at lower resolution, the last 30 steps at full resolution
+    o.maxIterations = 150;
     o.mapSize = 128;
-    o.uvSearchEvery = 100;
+    o.uvSearchEvery = 0;  // a second search at 100 cost 40% more and changed no result measured
     o.searchRotations = 24;
     o.searchLogScales = 9;
     o.searchOffsets = 1;
     o.refineSteps = 2;
+    o.coarseLevels = 1;
+    o.searchLevels = 2;
+    o.searchKeep = 8;
+    o.fineIterations = 30;
     o.plateau = PlateauOptions{20, 2e-3, 60};
   } else if (name == "fast") {
-    o.maxIterations = 120;
-    o.mapSize = 64;
-    o.uvSearchEvery = 40;
-    o.searchRotations = 12;
-    o.searchLogScales = 7;
+    o.maxIterations = 80;
+    o.mapSize = 128;  // at 64 the checker's tiles alias and the search picks a wrong period
+    o.uvSearchEvery = 0;
+    o.searchRotations = 16;
+    o.searchLogScales = 9;
     o.searchOffsets = 1;
     o.refineSteps = 2;
+    o.coarseLevels = 1;
+    o.searchLevels = 2;
+    o.searchKeep = 4;
+    o.fineIterations = 15;
     o.learningRate = 0.03f;
     o.plateau = PlateauOptions{15, 3e-3, 40};
   } else {
@@ -422,9 +438,9 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     // coarse to fine: the searches and most steps on the downsampled part, the last steps at full
     // resolution from the coarse phase's best state
     const int fine = std::min(remaining, options.fineIterations);
-    f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
+    if (remaining > fine) f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
     res.coarseIterations = static_cast<int>(res.history.size());
-    if (fine > 0) f.run(s, fine, false, false, 0, res, true);
+    if (fine > 0) f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
   } else {
     f.run(s, remaining, options.restarts == 0, true, 0, res, true);
   }

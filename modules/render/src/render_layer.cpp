@@ -290,7 +290,7 @@ inline Taps taps(float tu, float tv, int n) {
   const float xf = std::floor(x), yf = std::floor(y);
   t.fx = x - xf;
   t.fy = y - yf;
-  auto wrap = [n](int i) { i %= n; return i < 0 ? i + n : i; };
+  auto wrap = [n](int i) { return i & (n - 1); };  // n is a power of two (two's complement wraps negatives)
   t.x0 = wrap(static_cast<int>(xf));
   t.x1 = wrap(t.x0 + 1);
   t.y0 = wrap(static_cast<int>(yf));
