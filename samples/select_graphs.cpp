@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
                     "homogeneous", minPixels);
         continue;
       }
-      const ps::GraphChoice c = bank.select(ps::computeTextureKey(view.photo, mask), 21);
+      const ps::GraphChoice c = ps::selectForPart(bank, view.photo, mask, cv::Mat());  // no UVs here: photo frame
       const std::string runnerUp = c.votes.size() > 1 ? c.votes[1].graph : "-";
       std::printf("%-16s %7d  %-26s %-10s %s\n", scene.parts[part].name.c_str(), pixels, c.graph.c_str(),
                   c.category.c_str(), runnerUp.c_str());

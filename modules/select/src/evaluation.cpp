@@ -5,6 +5,7 @@
 
 #include "photoscene/core/rng.hpp"
 #include "photoscene/core/timer.hpp"
+#include "photoscene/select/part_selection.hpp"
 
 namespace ps {
 
@@ -65,10 +66,24 @@ SelectionReport evaluateSelection(const ExemplarBank& bank, const GraphLibrary& 
       const float level = std::exp(rng.uniform(std::log(o.minLevel), std::log(o.maxLevel)));
       cv::Vec3f light;
       for (int c = 0; c < 3; ++c) light[c] = level * rng.uniform(1 - o.colorJitter, 1 + o.colorJitter);
-      const cv::Mat patch = renderCanonicalPatch(maps, size, scale, rot, light);
-      Timer t;
-      const GraphChoice c = bank.select(computeTextureKey(patch, mask, bankOptions.key), o.k);
-      r.querySeconds += t.seconds();
+      PartSelectionOptions query;
+      query.k = o.k;
+      query.categoryFirst = o.categoryFirst;
+      GraphChoice c;
+      if (o.observed) {
+        ObservedPlaneParams p = randomObservation(bankOptions.observation, rng);
+        p.lightColor = light;
+        const ObservedPlane obs = renderObservedPlane(maps, p);
+        Timer t;
+        c = selectForPart(bank, obs.image, obs.mask, obs.uv, cv::Mat(), query);
+        r.querySeconds += t.seconds();
+      } else {
+        const cv::Mat patch = renderCanonicalPatch(maps, size, scale, rot, light);
+        Timer t;
+        c = selectForPart(bank, patch, mask, cv::Mat(), cv::Mat(), query);
+        r.querySeconds += t.seconds();
+      }
+
       ++r.total;
       const bool ok = c.graph == name;
       r.top1 += ok;

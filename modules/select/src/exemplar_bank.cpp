@@ -16,12 +16,13 @@
 #include "photoscene/core/rng.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/io/files.hpp"
+#include "photoscene/select/part_selection.hpp"
 
 namespace ps {
 
 namespace {
 constexpr char kMagic[8] = {'P', 'S', 'E', 'X', 'B', 'A', 'N', 'K'};
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 
 uint64_t nameHash(const std::string& s) { return Hasher().add(std::string_view(s)).digest(); }
 
@@ -56,6 +57,14 @@ bool ExemplarBankOptions::IsValid(std::string* error) const {
     if (error) *error = "drawsPerGraph >= 1, mapSize a power of two >= 16, renderSize >= 16, uvScales non-empty, spread in [0, 1]" + keyError;
     return false;
   }
+  const ObservationRanges& r = observation;
+  if (observedPerDraw < 0 || r.width < 16 || r.height < 16 || !(r.maxTiltDeg >= 0 && r.maxTiltDeg <= 75) ||
+      !(r.minRepeats > 0 && r.maxRepeats >= r.minRepeats) || !(r.maxGradient >= 0) || !(r.maxBlurSigma >= 0) ||
+      !(r.maxNoise >= 0) || !(shadingSigma >= 0)) {
+    if (error) *error = "observedPerDraw >= 0, observation image >= 16 px, tilt in [0, 75], repeats 0 < min <= max, "
+                        "gradient, blur, noise and shadingSigma >= 0";
+    return false;
+  }
   for (float s : uvScales)
     if (!(s > 0)) {
       if (error) *error = "uvScales must be positive";
@@ -71,9 +80,77 @@ uint64_t ExemplarBankOptions::hash() const {
   const auto& d = key.descriptor;
   h.add(d.numScales).add(d.numOrientations).add(d.centerFrequency).add(d.sigma).add(d.kernelRadiusSigmas)
       .add(d.boundaryPower).add(d.epsilon);
-  h.add(discriminantProjection);
+  h.add(discriminantProjection).add(statisticsWeight);
+  const ObservationRanges& r = observation;
+  h.add(observedPerDraw).add(r.width).add(r.height).add(r.maxTiltDeg).add(r.minRepeats).add(r.maxRepeats)
+      .add(r.maxGradient).add(r.maxBlurSigma).add(r.maxNoise).add(r.oddMaskProbability).add(shadingSigma);
   h.add(key.colorWeight).add(key.contrastWeight).add(key.anisotropyWeight).add(key.logFloor);
   return h.digest();
+}
+
+int bankKeyLength(const ExemplarBankOptions& options) {
+  return keyLength(options.key) + (options.statisticsWeight > 0 ? 12 : 0);
+}
+
+namespace {
+/// Percentiles (in [0, 1]) of a vector, which is reordered.
+std::vector<float> percentiles(std::vector<float>& v, std::initializer_list<double> ps) {
+  std::vector<float> out;
+  for (double p : ps) {
+    if (v.empty()) {
+      out.push_back(0.f);
+      continue;
+    }
+    const size_t i = std::min(v.size() - 1, static_cast<size_t>(p * v.size()));
+    std::nth_element(v.begin(), v.begin() + i, v.end());
+    out.push_back(v[i]);
+  }
+  return out;
+}
+/// log(x / median x) percentiles (5, 25, 75, 95) of the masked luminance.
+void logContrastPercentiles(const cv::Mat& image, const cv::Mat& mask, std::vector<float>& out) {
+  std::vector<float> l;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      if (mask.at<uint8_t>(y, x)) {
+        const cv::Vec3f c = image.at<cv::Vec3f>(y, x);
+        l.push_back(std::log(std::max(1e-6f, 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2])));
+      }
+  const float med = percentiles(l, {0.5})[0];
+  for (float v : percentiles(l, {0.05, 0.25, 0.75, 0.95})) out.push_back(v - med);
+}
+}  // namespace
+
+std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, const ExemplarBankOptions& options) {
+  std::vector<float> key = computeTextureKey(image, mask, options.key);
+  if (options.statisticsWeight <= 0) return key;
+  std::vector<float> st;
+  logContrastPercentiles(image, mask, st);
+  // 2 x 2 box filter, only where all four pixels are in the mask
+  cv::Mat half, m01, cover;
+  mask.convertTo(m01, CV_32F, 1.0 / 255.0);
+  cv::threshold(m01, m01, 0, 1, cv::THRESH_BINARY);
+  cv::resize(image, half, cv::Size(std::max(1, image.cols / 2), std::max(1, image.rows / 2)), 0, 0, cv::INTER_AREA);
+  cv::resize(m01, cover, half.size(), 0, 0, cv::INTER_AREA);
+  cv::Mat halfMask = cover > 0.99f;
+  if (cv::countNonZero(halfMask) < 4) halfMask = cover > 0;
+  logContrastPercentiles(half, halfMask, st);
+  std::vector<float> rg, bg;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      if (mask.at<uint8_t>(y, x)) {
+        const cv::Vec3f c = image.at<cv::Vec3f>(y, x);
+        const float g = std::max(1e-6f, c[1]);
+        rg.push_back(std::log(std::max(1e-6f, c[0]) / g));
+        bg.push_back(std::log(std::max(1e-6f, c[2]) / g));
+      }
+  for (std::vector<float>* v : {&rg, &bg}) {
+    const float med = percentiles(*v, {0.5})[0];
+    for (float q : percentiles(*v, {0.1, 0.9})) st.push_back(q - med);
+  }
+  const float w = options.statisticsWeight / 2.0f;
+  for (float v : st) key.push_back(w * v);
+  return key;
 }
 
 cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, float rotationDeg,
@@ -118,14 +195,18 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   PS_Check(options.IsValid(&why), why);
   Timer timer;
   ExemplarBank bank;
+  bank.options_ = options;
   bank.graphNames_ = library.names();
   for (const auto& n : bank.graphNames_) bank.categories_.push_back(library.get(n).category());
   const int graphs = static_cast<int>(bank.graphNames_.size());
-  const int perGraph = options.drawsPerGraph * static_cast<int>(options.uvScales.size());
-  bank.dim_ = keyLength(options.key);
+  const int scales = static_cast<int>(options.uvScales.size());
+  const int perDraw = scales + options.observedPerDraw;
+  const int perGraph = options.drawsPerGraph * perDraw;
+  bank.dim_ = bankKeyLength(options);
   bank.exemplars_.resize(static_cast<size_t>(graphs) * perGraph);
   bank.keys_.assign(bank.exemplars_.size() * bank.dim_, 0.f);
   const cv::Mat fullMask(options.renderSize, options.renderSize, CV_8UC1, cv::Scalar(255));
+  PartSelectionOptions query;
   parallelFor(0, graphs, [&](int64_t g) {
     MaterialGraph graph = library.create(bank.graphNames_[g]);
     for (int d = 0; d < options.drawsPerGraph; ++d) {
@@ -133,12 +214,21 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
       graph.setValues(d == 0 ? graph.defaultValues() : graph.randomValues(seed, options.spread));
       const MaterialMaps maps = graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       Rng rng(seed, 17);
-      for (size_t si = 0; si < options.uvScales.size(); ++si) {
-        const float rotation = rng.uniform(0.f, 360.f);
-        const cv::Mat patch = renderCanonicalPatch(maps, options.renderSize, options.uvScales[si], rotation);
-        const std::vector<float> key = computeTextureKey(patch, fullMask, options.key);
-        const size_t row = static_cast<size_t>(g) * perGraph + d * options.uvScales.size() + si;
-        bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, options.uvScales[si], rotation};
+      for (int i = 0; i < perDraw; ++i) {
+        const size_t row = static_cast<size_t>(g) * perGraph + static_cast<size_t>(d) * perDraw + i;
+        std::vector<float> key;
+        if (i < scales) {
+          const float rotation = rng.uniform(0.f, 360.f);
+          const cv::Mat patch = renderCanonicalPatch(maps, options.renderSize, options.uvScales[i], rotation);
+          key = describeTexture(removeSmoothShading(patch, fullMask, options.shadingSigma), fullMask, options);
+          bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, options.uvScales[i], rotation, -1.f};
+        } else {
+          const ObservedPlaneParams p = randomObservation(options.observation, rng);
+          const ObservedPlane obs = renderObservedPlane(maps, p);
+          const PartTexture t = preparePartTexture(obs.image, obs.mask, obs.uv, cv::Mat(), options.shadingSigma, query);
+          key = describeTexture(t.image, t.mask, options);
+          bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, p.repeats, p.rotationDeg, p.tiltDeg};
+        }
         std::copy(key.begin(), key.end(), bank.keys_.begin() + row * bank.dim_);
       }
     }
@@ -146,8 +236,8 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   if (options.discriminantProjection) bank.learnProjection();
   bank.index_ = std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
   bank.buildSeconds_ = timer.seconds();
-  spdlog::info("exemplar bank: {} graphs x {} draws x {} scales = {} exemplars of {} floats in {:.1f}s", graphs,
-               options.drawsPerGraph, options.uvScales.size(), bank.rows(), bank.dim_, bank.buildSeconds_);
+  spdlog::info("exemplar bank: {} graphs x {} draws x ({} scales + {} observed) = {} exemplars of {} floats in {:.1f}s",
+               graphs, options.drawsPerGraph, scales, options.observedPerDraw, bank.rows(), bank.dim_, bank.buildSeconds_);
   return bank;
 }
 
@@ -264,6 +354,7 @@ void ExemplarBank::save(const std::filesystem::path& file) const {
       put(os, e.draw);
       put(os, e.uvScale);
       put(os, e.rotationDeg);
+      put(os, e.tiltDeg);
     }
     put(os, static_cast<uint32_t>(indexDim()));
     os.write(reinterpret_cast<const char*>(keys_.data()), static_cast<std::streamsize>(keys_.size() * sizeof(float)));
@@ -290,11 +381,11 @@ ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libr
   std::vector<std::string> names(graphs), cats(graphs);
   for (uint32_t i = 0; i < graphs; ++i)
     if (!getString(is, names[i]) || !getString(is, cats[i])) return bank;
-  if (!get(is, rows) || !get(is, dim) || dim != static_cast<uint32_t>(keyLength(options.key)) || rows > (1u << 24))
+  if (!get(is, rows) || !get(is, dim) || dim != static_cast<uint32_t>(bankKeyLength(options)) || rows > (1u << 24))
     return bank;
   std::vector<Exemplar> ex(rows);
   for (auto& e : ex)
-    if (!get(is, e.graph) || !get(is, e.draw) || !get(is, e.uvScale) || !get(is, e.rotationDeg) || e.graph < 0 ||
+    if (!get(is, e.graph) || !get(is, e.draw) || !get(is, e.uvScale) || !get(is, e.rotationDeg) || !get(is, e.tiltDeg) || e.graph < 0 ||
         e.graph >= static_cast<int>(graphs))
       return bank;
   uint32_t indexDim = 0, projectedDim = 0;
@@ -319,6 +410,7 @@ ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libr
   bank.buildSeconds_ = seconds;
   bank.libraryHash_ = libraryHash;
   bank.optionsHash_ = options.hash();
+  bank.options_ = options;
   const std::filesystem::path indexFile(file.string() + ".flann");
   std::error_code ec;
   if (std::filesystem::exists(indexFile, ec)) {
@@ -353,7 +445,7 @@ ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library, const Exempl
   return bank;
 }
 
-GraphChoice ExemplarBank::select(const std::vector<float>& key, int k) const {
+GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool categoryFirst) const {
   GraphChoice choice;
   const KnnResult r = index_->search(project(key), k);
   std::map<int, GraphVote> votes;
@@ -381,6 +473,15 @@ GraphChoice ExemplarBank::select(const std::vector<float>& key, int k) const {
   if (!choice.votes.empty()) {
     choice.graph = choice.votes[0].graph;
     choice.category = choice.votes[0].category;
+    if (categoryFirst) {
+      const std::string& best = choice.categoryVotes[0].category;
+      for (const GraphVote& v : choice.votes)
+        if (v.category == best) {
+          choice.graph = v.graph;
+          choice.category = v.category;
+          break;
+        }
+    }
   }
   choice.neighbours = r.index;
   choice.distances = r.distance;

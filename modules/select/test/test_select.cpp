@@ -52,7 +52,8 @@ TEST(Select_Knn, flann_index_types_agree_with_exhaustive_search) {
       }
     }
     // approximate indexes find most true neighbours at these settings
-    EXPECT_GE(static_cast<double>(agree) / total, type == KnnIndexType::Linear ? 1.0 : 0.7) << knnIndexTypeName(type);
+    EXPECT_GE(static_cast<double>(agree) / total, type == KnnIndexType::Linear ? 1.0 : 0.7)
+        << knnIndexTypeName(type);
   }
 }
 
@@ -72,14 +73,21 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
   EXPECT_TRUE(cached);
   EXPECT_EQ(a.keys(), b.keys());
   EXPECT_EQ(a.graphNames(), b.graphNames());
-  std::printf("bank of %d exemplars: built in %.2f s, loaded in %.2f ms\n", a.rows(), a.buildSeconds(), loadMs);
+  std::printf("bank of %d exemplars: built in %.2f s, loaded in %.2f ms\n", a.rows(),
+              a.buildSeconds(), loadMs);
   const std::vector<float> q(a.dim(), 0.5f);
   EXPECT_EQ(a.select(q, 5).graph, b.select(q, 5).graph);
   // other options or another library: the file does not match and is not used
   ExemplarBankOptions other = small;
   other.seed = 9;
-  EXPECT_EQ(ExemplarBank::load(dir / ExemplarBank::cacheFileName(library(), small), library().contentHash(), other).rows(), 0);
-  EXPECT_EQ(ExemplarBank::load(dir / ExemplarBank::cacheFileName(library(), small), library().contentHash() + 1, small).rows(), 0);
+  EXPECT_EQ(ExemplarBank::load(dir / ExemplarBank::cacheFileName(library(), small),
+                               library().contentHash(), other)
+                .rows(),
+            0);
+  EXPECT_EQ(ExemplarBank::load(dir / ExemplarBank::cacheFileName(library(), small),
+                               library().contentHash() + 1, small)
+                .rows(),
+            0);
   // a truncated file is refused, not trusted
   const auto file = dir / ExemplarBank::cacheFileName(library(), small);
   std::filesystem::resize_file(file, std::filesystem::file_size(file) / 2);
@@ -87,16 +95,91 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
 }
 
 TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
-  // Issue 5 asks for top-1 >= 60% and category >= 85% on this protocol; the texture key with the
-  // discriminant projection reaches about 59% / 66% (chance: 1.7% / 6%; 295 draws, so about +-3%).
-  // The assertions hold the level reached, less three standard deviations, so that a regression
-  // fails; the gap to the target is documented in the README.
+  // Issue 5's protocol (canonical patches, random UV rotation and scale, random light color and
+  // level): top-1 >= 60%, category >= 85% asked. Measured 58.6% / 65.4% with the kd-tree index
+  // (59.7% / 67.1% exhaustive; before the observed exemplars 59.0% / 67.1% exhaustive) (295 draws,
+  // so about +-3%); the assertions hold the level reached less about three standard deviations.
   const ExemplarBank& b = bank();
-  ASSERT_EQ(b.rows(), library().size() * 10 * 2);
-  const SelectionReport r = evaluateSelection(b, library(), ExemplarBankOptions{});
+  const ExemplarBankOptions o;
+  ASSERT_EQ(b.rows(), library().size() * o.drawsPerGraph *
+                          (static_cast<int>(o.uvScales.size()) + o.observedPerDraw));
+  const SelectionReport r = evaluateSelection(b, library(), o);
   std::printf("%s", r.table().c_str());
-  EXPECT_GE(r.top1Accuracy(), 0.50);
-  EXPECT_GE(r.categoryAccuracy(), 0.57);
+  EXPECT_GE(r.top1Accuracy(), 0.53);
+  EXPECT_GE(r.categoryAccuracy(), 0.60);
+}
+
+TEST(Select_Bank, observed_parts_select_their_graph_and_category) {
+  // What the pipeline meets: each held-out draw on a plane in perspective (tilt up to 65 deg),
+  // with a shading gradient, blur, noise and often an odd mask, queried with its UVs through
+  // selectForPart. With the canonical-only bank of before, this protocol gave 12.9% / 21.0%
+  // (exhaustive search); now 34.9% / 41.0% exhaustive, 37.3% / 42.0% with the kd-tree index
+  // (chance 1.7% / 6%). Assertions: the level reached less about three standard deviations.
+  HeldOutOptions h;
+  h.observed = true;
+  const SelectionReport r = evaluateSelection(bank(), library(), ExemplarBankOptions{}, h);
+  std::printf("observed protocol\n%s", r.table().c_str());
+  EXPECT_GE(r.top1Accuracy(), 0.28);
+  EXPECT_GE(r.categoryAccuracy(), 0.34);
+}
+
+TEST(Select_Part, smooth_shading_is_removed_and_texture_kept) {
+  // a stripe texture under a strong linear shading ramp: after removeSmoothShading the ramp is
+  // gone (left and right halves have the same mean) and the stripes keep their contrast
+  const int w = 160, h = 80;
+  cv::Mat img(h, w, CV_32FC3), flat(h, w, CV_32FC3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float stripe = (x / 4) % 2 ? 0.6f : 0.4f;
+      flat.at<cv::Vec3f>(y, x) = cv::Vec3f(stripe, stripe, stripe);
+      img.at<cv::Vec3f>(y, x) = flat.at<cv::Vec3f>(y, x) * std::exp(1.5f * x / w);
+    }
+  const cv::Mat mask(h, w, CV_8UC1, cv::Scalar(255));
+  const cv::Mat out = removeSmoothShading(img, mask, 12.0);
+  const cv::Scalar left = cv::mean(out(cv::Rect(8, 0, w / 2 - 8, h))),
+                   right = cv::mean(out(cv::Rect(w / 2, 0, w / 2 - 8, h)));
+  EXPECT_NEAR(left[0] / right[0], 1.0, 0.05);
+  cv::Mat lum;
+  cv::extractChannel(out, lum, 0);
+  cv::Scalar m, sd;
+  cv::meanStdDev(lum(cv::Rect(16, 0, w - 32, h)), m, sd);
+  EXPECT_NEAR(sd[0] / m[0], 0.2, 0.04);  // the stripes' own relative contrast (0.1 / 0.5)
+}
+
+TEST(Select_Part, unwarping_a_tilted_plane_covers_its_texture) {
+  // One draw on a plane tilted by 60 degrees: the prepared texture is in texture space, its
+  // coverage (after hole filling) is nearly the whole UV region the plane shows, values are
+  // finite and positive. (Raw-key distances to the frontal view are printed for information: on
+  // this case the unwarped key is not closer to the frontal one than the photo-frame key; the
+  // bank's observed exemplars carry the remaining difference.)
+  MaterialGraph g = library().create("tile_square_ceramic");
+  const MaterialMaps maps = g.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+  ObservedPlaneParams p;
+  p.repeats = 3;
+  const ObservedPlane frontal = renderObservedPlane(maps, p);
+  p.tiltDeg = 60;
+  p.yawDeg = 90;
+  const ObservedPlane tilted = renderObservedPlane(maps, p);
+  EXPECT_GT(cv::countNonZero(tilted.mask), static_cast<int>(tilted.mask.total() / 2));
+  const PartTexture a =
+      preparePartTexture(frontal.image, frontal.mask, frontal.uv, cv::Mat(), 12.0);
+  const PartTexture b = preparePartTexture(tilted.image, tilted.mask, tilted.uv, cv::Mat(), 12.0);
+  EXPECT_TRUE(a.unwarped && b.unwarped);
+  // a tilted plane's UV region is a trapezoid (wide at the far side): over a third of the box
+  EXPECT_GT(cv::countNonZero(b.mask), static_cast<int>(b.mask.total() / 3));
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(b.image.reshape(1), &lo, &hi);
+  EXPECT_TRUE(std::isfinite(lo) && std::isfinite(hi) && lo >= 0 && hi > 0);
+  const double unwarped =
+      descriptorDistance(computeTextureKey(a.image, a.mask), computeTextureKey(b.image, b.mask));
+  const double photoFrame = descriptorDistance(computeTextureKey(frontal.image, frontal.mask),
+                                               computeTextureKey(tilted.image, tilted.mask));
+  std::printf("raw key distance frontal vs 60-degree tilt: photo frame %.3f, unwarped %.3f\n",
+              photoFrame, unwarped);
+  // bad input is refused at the boundary
+  EXPECT_THROW(preparePartTexture(frontal.image, cv::Mat::zeros(frontal.mask.size(), CV_8UC1),
+                                  frontal.uv, cv::Mat(), 12.0),
+               Exception);
 }
 
 TEST(Select_Rules, homogeneous_threshold_scales_with_resolution) {

@@ -4,3 +4,4 @@
 #include "photoscene/select/exemplar_bank.hpp"
 #include "photoscene/select/knn_index.hpp"
 #include "photoscene/select/evaluation.hpp"
+#include "photoscene/select/part_selection.hpp"

@@ -1,5 +1,8 @@
 // Measuring graph selection: held-out random draws of every library graph, rendered under a
 // random UV rotation and scale and a random lighting color and level, selected through a bank.
+// Two protocols: "canonical" (issue 5: a flat frontal patch, as the bank's canonical exemplars)
+// and "observed" (a plane in perspective with UVs, shading gradient, blur, noise and an odd
+// mask, queried through selectForPart as the pipeline queries a photographed part).
 #pragma once
 
 #include <map>
@@ -16,6 +19,10 @@ struct HeldOutOptions {
   float colorJitter = 0.4f;                    ///< per-channel light color in [1 - j, 1 + j]
   float spread = 0.6f;                         ///< randomValues spread of the held-out draws
   int k = 21;
+  bool categoryFirst = false;                  ///< ExemplarBank::select's category-first vote
+  /// false: canonical patches (issue 5's protocol); true: observed planes (ObservationRanges of
+  /// the bank's options, other seeds), queried with their UVs through selectForPart.
+  bool observed = false;
   uint64_t seed = 2024;                        ///< differs from the bank's draws
 };
 

@@ -11,7 +11,7 @@
 //
 //   ps::GraphLibrary lib = ps::GraphLibrary::load();
 //   ps::ExemplarBank bank = ps::ExemplarBank::loadOrBuild(lib, {}, cacheFolder);
-//   ps::GraphChoice choice = bank.select(ps::computeTextureKey(photo, partMask), 21);
+//   ps::GraphChoice choice = ps::selectForPart(bank, photo, partMask, uv);  // part_selection.hpp
 #pragma once
 
 #include <cstdint>
@@ -28,6 +28,18 @@
 
 namespace ps {
 
+/// Ranges of the random observations (renderObservedPlane) behind the bank's observed exemplars
+/// and the observed held-out test: what a part in a photo looks like once unwarped.
+struct ObservationRanges {
+  int width = 128, height = 96;               ///< image size (pixels)
+  float maxTiltDeg = 65;                      ///< tilt uniform in [0, max]
+  float minRepeats = 1.5f, maxRepeats = 8.0f; ///< log-uniform texture repeats across the width
+  float maxGradient = 1.2f;                   ///< shading gradient, log-luminance across the image
+  float maxBlurSigma = 1.0f;                  ///< camera blur (pixels), uniform in [0, max]
+  float maxNoise = 0.04f;                     ///< relative noise, uniform in [0, max]
+  float oddMaskProbability = 0.5f;            ///< share of observations cut by an odd mask
+};
+
 struct ExemplarBankOptions {
   int drawsPerGraph = 10;                     ///< N random draws per graph (the paper: 10)
   float spread = 0.6f;                        ///< MaterialGraph::randomValues spread
@@ -35,6 +47,17 @@ struct ExemplarBankOptions {
   int renderSize = 96;                        ///< canonical patch size (pixels)
   std::vector<float> uvScales = {2.0f, 4.0f}; ///< texture repeats across the patch
   uint64_t seed = 0;
+  /// Observed exemplars per draw, besides the canonical ones: the draw rendered on a random
+  /// tilted plane (ObservationRanges), unwarped by its UVs and described as a photographed part
+  /// is (preparePartTexture), so the bank covers perspective, shading, blur, noise and masks.
+  int observedPerDraw = 2;
+  ObservationRanges observation;
+  /// Smooth shading removal before the key (removeSmoothShading), sigma in pixels; 0: off.
+  /// Applied to every exemplar and every query alike.
+  float shadingSigma = 12.0f;
+  /// Weight of the bank's intensity and chroma statistics appended to the texture key
+  /// (describeTexture); 0: the texture key alone.
+  float statisticsWeight = 1.0f;
   KnnIndexType indexType = KnnIndexType::KdTree;
   /// Project keys with linear discriminant analysis learned on the bank itself (classes =
   /// graphs): distances then discount the variation a graph shows across its own draws, scales
@@ -45,6 +68,20 @@ struct ExemplarBankOptions {
   /// Hash of everything that changes the bank's content.
   uint64_t hash() const;
 };
+
+/// Length of the bank's raw keys: keyLength(options.key), plus 12 statistics when
+/// statisticsWeight > 0.
+int bankKeyLength(const ExemplarBankOptions& options);
+
+/// The bank's raw key of a region (what ExemplarBank::select takes): computeTextureKey(image,
+/// mask, options.key), then, when statisticsWeight > 0, statistics that survive any per-channel
+/// light scale, each times statisticsWeight / sqrt(4):
+///   the 5th, 25th, 75th and 95th percentiles of log(L / median L) over the mask, L luminance,
+///   the same of the image box-filtered 2 x 2 (contrast that survives blur and noise),
+///   the 10th and 90th percentiles of log(R / G) and of log(B / G), less their medians (how
+///   many colors the region holds, not which).
+/// @param image CV_32FC3 linear RGB, non-negative; @param mask CV_8UC1, same size, non-empty
+std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, const ExemplarBankOptions& options);
 
 /// Renders material maps on a frontal, flat patch: t = R(rotation) * (repeats * uv), uv in
 /// [0, 1]^2 across the patch, Lambert + ambient under a white key light from the upper left
@@ -58,8 +95,9 @@ cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, 
 struct Exemplar {
   int graph = 0;   ///< index into ExemplarBank::graphNames()
   int draw = 0;
-  float uvScale = 1;
+  float uvScale = 1;      ///< texture repeats across the patch (observed: across the image width)
   float rotationDeg = 0;
+  float tiltDeg = -1;     ///< observed exemplars: the plane's tilt; canonical ones: -1
 };
 
 struct GraphVote {
@@ -111,9 +149,13 @@ class ExemplarBank {
   const KnnIndex& index() const { return *index_; }
   double buildSeconds() const { return buildSeconds_; }
 
-  /// k-NN vote over a raw texture key (dim() floats): each of the k nearest exemplars adds
-  /// 1 / (distance + 1e-6) to its graph.
-  GraphChoice select(const std::vector<float>& key, int k = 21) const;
+  /// k-NN vote over a raw key (describeTexture, dim() floats): each of the k nearest exemplars adds
+  /// 1 / (distance + 1e-6) to its graph (and to its graph's category). categoryFirst: the
+  /// category with the largest vote wins first, then its best graph (GraphChoice::graph is then
+  /// the best graph of that category, which may not be the best graph overall).
+  GraphChoice select(const std::vector<float>& key, int k = 21, bool categoryFirst = false) const;
+  /// The options the bank was built with.
+  const ExemplarBankOptions& options() const { return options_; }
   /// Rebuilds the index with another type (for the benchmark).
   void rebuildIndex(KnnIndexType type);
 
@@ -126,6 +168,7 @@ class ExemplarBank {
   int dim_ = 0;
   double buildSeconds_ = 0;
   uint64_t libraryHash_ = 0, optionsHash_ = 0;
+  ExemplarBankOptions options_;
   std::vector<float> projection_;  ///< dim_ x projectedDim_, row-major; empty: identity
   int projectedDim_ = 0;
   std::unique_ptr<KnnIndex> index_;

@@ -1,0 +1,143 @@
+// Graph selection on a scene with known graphs (the bundled sample by default): the G-buffer and
+// the alignment as the pipeline's align stage makes them, then each part's graph by the
+// photo-frame key (the pipeline before selectForPart) and by selectForPart (texture space,
+// shading removed), against the truth in <scene dir>/gt/twin/materials/<part>.json ("graph").
+//   ps_bench_select_sample [SCENE.json] [--cache DIR] [--draws N] [--observed N] [--shading S]
+//                          [--scales a,b] [--k K] [--category-first 0|1]
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/align.hpp"
+#include "photoscene/core.hpp"
+#include "photoscene/raytrace.hpp"
+#include "photoscene/scene.hpp"
+#include "photoscene/select.hpp"
+
+namespace fs = std::filesystem;
+
+int main(int argc, char** argv) {
+  ps::initLogging(ps::LogLevel::Warn);
+  std::string scenePath = PS_SAMPLE_SCENE;
+  fs::path cache = "bank-cache";
+  ps::ExemplarBankOptions options;
+  ps::PartSelectionOptions query;
+  fs::path dump;  // --dump DIR: each part's prepared texture (PNG, scaled to its mean)
+  int i = 1;
+  if (argc > 1 && argv[1][0] != '-') scenePath = argv[i++];
+  for (; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--cache")
+      cache = v;
+    else if (a == "--draws")
+      options.drawsPerGraph = std::atoi(v.c_str());
+    else if (a == "--observed")
+      options.observedPerDraw = std::atoi(v.c_str());
+    else if (a == "--shading")
+      options.shadingSigma = std::stof(v);
+    else if (a == "--dump")
+      dump = v;
+    else if (a == "--stats")
+      options.statisticsWeight = std::stof(v);
+    else if (a == "--k")
+      query.k = std::atoi(v.c_str());
+    else if (a == "--category-first")
+      query.categoryFirst = std::atoi(v.c_str()) != 0;
+    else if (a == "--scales") {
+      options.uvScales.clear();
+      std::stringstream ss(v);
+      std::string tok;
+      while (std::getline(ss, tok, ',')) options.uvScales.push_back(std::stof(tok));
+    } else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  try {
+    const ps::Scene scene = ps::loadScene(scenePath);
+    const ps::View& view = scene.views[0];
+    const fs::path truthDir = fs::path(scenePath).parent_path() / "gt" / "twin" / "materials";
+    const ps::GraphLibrary library = ps::GraphLibrary::load();
+    ps::Timer timer;
+    bool cached = false;
+    const ps::ExemplarBank bank = ps::ExemplarBank::loadOrBuild(library, options, cache, &cached);
+    std::printf("bank: %d exemplars, %s in %.1f s\n", bank.rows(), cached ? "loaded" : "built",
+                timer.seconds());
+
+    // the pipeline's align stage (pipeline.cpp, stageAlign), at the photo's resolution
+    const std::vector<ps::PartMaterial> gray;
+    const ps::PathTracer tracer(scene, gray);
+    const ps::GBuffer gb = ps::renderGBuffer(tracer, view.camera);
+    const auto geo = ps::align::partMasks(gb.partId);
+    cv::Mat labels = view.segments;
+    std::map<int, int> pinned = view.segmentParts;
+    if (labels.empty()) labels = ps::align::proposeRegions(view.photo, geo, &pinned);
+    const ps::align::MatchResult match = ps::align::matchRegions(labels, geo, pinned);
+    const int minPixels = ps::homogeneousThreshold(view.camera.width(), view.camera.height());
+
+    std::printf("%-12s %6s  %-22s %-22s %-22s\n", "part", "pixels", "truth", "photo-frame key",
+                "selectForPart");
+    int total = 0, oldTop1 = 0, newTop1 = 0, oldCat = 0, newCat = 0;
+    for (const auto& [part, photoMask] : match.photoMasks) {
+      if (!geo.count(part) || cv::countNonZero(photoMask) == 0) continue;
+      const std::string& name = scene.parts[part].name;
+      std::string truth = "?";
+      if (std::ifstream f(truthDir / (name + ".json")); f)
+        truth = nlohmann::json::parse(f).value("graph", "?");
+      const int pixels = cv::countNonZero(photoMask);
+      if (pixels < minPixels) {
+        std::printf("%-12s %6d  %-22s %-22s %-22s\n", name.c_str(), pixels, truth.c_str(),
+                    "homogeneous", "homogeneous");
+        continue;
+      }
+      const cv::Mat& geoMask = geo.at(part);
+      const cv::Matx23d A = ps::align::boxAffine(geoMask, photoMask);
+      cv::Mat warped, interior, partPhoto;
+      cv::warpAffine(photoMask, warped, cv::Mat(A), geoMask.size(), cv::INTER_NEAREST,
+                     cv::BORDER_CONSTANT, 0);
+      cv::threshold(gb.coverage[part], interior, 0.99, 255, cv::THRESH_BINARY);
+      interior.convertTo(interior, CV_8UC1);
+      cv::Mat fit = geoMask & warped & interior;
+      if (cv::countNonZero(fit) == 0) fit = geoMask & warped;
+      cv::warpAffine(view.photo, partPhoto, cv::Mat(A), view.photo.size(), cv::INTER_LINEAR,
+                     cv::BORDER_REFLECT);
+
+      const ps::GraphChoice before =
+          bank.select(ps::describeTexture(view.photo, photoMask, options), query.k);
+      const ps::GraphChoice after =
+          ps::selectForPart(bank, partPhoto, fit, gb.uv, cv::Mat(), query);
+      if (!dump.empty()) {
+        const ps::PartTexture t =
+            ps::preparePartTexture(partPhoto, fit, gb.uv, cv::Mat(), options.shadingSigma, query);
+        fs::create_directories(dump);
+        cv::Mat png;
+        const cv::Scalar m = cv::mean(t.image, t.mask);
+        t.image.convertTo(png, CV_8UC3, 127.0 / std::max(1e-6, (m[0] + m[1] + m[2]) / 3));
+        cv::cvtColor(png, png, cv::COLOR_RGB2BGR);
+        cv::imwrite((dump / (name + ".png")).string(), png);
+      }
+      const std::string truthCat = library.contains(truth) ? library.get(truth).category() : "?";
+      ++total;
+      oldTop1 += before.graph == truth;
+      newTop1 += after.graph == truth;
+      oldCat += before.category == truthCat;
+      newCat += after.category == truthCat;
+      std::printf("%-12s %6d  %-22s %-22s %-22s (then %s)\n", name.c_str(), pixels, truth.c_str(),
+                  before.graph.c_str(), after.graph.c_str(),
+                  after.votes.size() > 1 ? after.votes[1].graph.c_str() : "-");
+    }
+    std::printf(
+        "textured parts: %d; photo-frame key: %d right (%d category); selectForPart: %d right (%d "
+        "category)\n",
+        total, oldTop1, oldCat, newTop1, newCat);
+    return 0;
+  } catch (const ps::InputError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
+}
