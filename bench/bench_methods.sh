@@ -3,15 +3,17 @@
 #
 #   bench/bench_methods.sh [--quick] [--build DIR] [--out DIR] [--case DIR]... [--threads N]
 #                          [--eval-spp N] [--methods "fast balanced paper pixel-median shading-median"]
-#                          [--no-gt-twin] [--reeval]
+#                          [--no-gt-twin] [--no-reeval]
 #
 # Cases: every --case DIR (a folder with scene.json), by default the bundled sample
 # (samples/data/living-room) and ../shared/data/examples/* when present (--quick: the bundled
 # sample only). Per case and method:
 #   photoscene run CASE/scene.json -o OUT/<case>/<method> --preset P      (fast, balanced, paper)
 #   photoscene run CASE/scene.json -o OUT/<case>/<method> --baseline B    (pixel-median, shading-median)
-#   photoscene eval OUT/<case>/<method> --scene CASE/scene.json --spp N   (only with --reeval, or when
-#                                             the run's own metrics.json lacks the views: run scores itself)
+#   photoscene eval OUT/<case>/<method> --scene CASE/scene.json --spp N --rerender
+#                                             (every method and the true twin scored at the same spp: the
+#                                             run scores itself at its preset's spp, 32 fast, 64 balanced,
+#                                             256 paper; --no-reeval keeps those numbers)
 # and, when the case has gt/twin (the true materials), a row "gt-twin" that only evaluates it: the
 # error left by render noise and the coarse geometry, the floor of what any method can reach.
 # Prints one markdown table per case (ps_bench_methods_table: seconds per stage and total,
@@ -32,7 +34,7 @@ THREADS=0
 EVAL_SPP=""
 METHODS=""
 GT_TWIN=1
-REEVAL=0
+REEVAL=1
 CASES=()
 ARGS="$*"
 while [[ $# -gt 0 ]]; do
@@ -45,7 +47,7 @@ while [[ $# -gt 0 ]]; do
     --eval-spp) EVAL_SPP="$2"; shift 2 ;;
     --methods) METHODS="$2"; shift 2 ;;
     --no-gt-twin) GT_TWIN=0; shift ;;
-    --reeval) REEVAL=1; shift ;;
+    --no-reeval) REEVAL=0; shift ;;
     -h|--help) sed -n '2,/^set -uo/p' "$0" | sed '$d'; exit 0 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
@@ -103,10 +105,9 @@ for CASE in "${CASES[@]}"; do
     T1=$(now)
     WALL=$(awk "BEGIN { printf \"%.1f\", $T1 - $T0 }")
     if [[ $RC -eq 0 ]]; then
-      # `photoscene run` scores its twin itself (metrics.json with novel / relit ground truth);
-      # eval again only when asked (--reeval: same spp for every method) or when that is missing.
+      # `photoscene run` scores its twin itself, at its preset's spp; score again at one spp for all.
       if [[ $REEVAL -eq 1 ]] || ! grep -q '"views"' "$DIR/metrics.json" 2>/dev/null; then
-        "$PS" -q eval "$DIR" --scene "$CASE/scene.json" --spp "$EVAL_SPP" "${EVAL_THREADS[@]}" >>"$LOG" 2>&1 ||
+        "$PS" -q eval "$DIR" --scene "$CASE/scene.json" --spp "$EVAL_SPP" --rerender "${EVAL_THREADS[@]}" >>"$LOG" 2>&1 ||
           echo "[$NAME] $M: eval failed (see $LOG)" >&2
       fi
     else
