@@ -52,7 +52,7 @@ struct Row {
 // Error against CPU seconds (one thread: wall time on a quiet machine), log-log, one marker per run: colour = preset, shape = graph; left panel the
 // texture-feature distance, right panel the mean-albedo error.
 void plot(const std::vector<Row>& rows, const std::string& path) {
-  const int W = 1100, H = 520, panelW = 500, panelH = 400, top = 50, left0 = 70, gap = 560;
+  const int W = 1180, H = 560, panelW = 500, panelH = 400, top = 50, left0 = 70, gap = 580;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
   const std::vector<cv::Scalar> palette = {{200, 80, 30}, {30, 140, 30}, {30, 30, 200}, {150, 30, 150}, {0, 150, 200}};
   std::map<std::string, int> presetIdx, graphIdx;
@@ -109,7 +109,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
     }
   }
   // legend
-  int lx = left0, ly = H - 25;
+  int lx = left0, ly = H - 15;
   for (auto& [name, i] : presetIdx) {
     cv::circle(img, cv::Point(lx, ly - 4), 5, palette[i % palette.size()], -1, cv::LINE_AA);
     cv::putText(img, name, cv::Point(lx + 10, ly), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
