@@ -27,12 +27,13 @@ cv::Mat stripes(int n) {
 TEST(Render_Downsample, coarse_geometry_renders_the_box_average_of_the_fine_image) {
   const int W = 160, H = 120;
   Room room = makeRoom(W, H);
-  std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f), lambert("ceiling", 0.8f),
-                                    lambert("box", 0.5f)};
+  std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f),
+                                    lambert("ceiling", 0.8f), lambert("box", 0.5f)};
   const PathTracer tracer(room.scene, mats);
   const testroom::View view = prepareView(tracer, room.camera, 8, 4, 3);
-  const PartGeometry fine = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(), view.grid,
-                                                view.gbuffer.mask[room.floor], room.floor);
+  const PartGeometry fine =
+      preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(), view.grid,
+                          view.gbuffer.mask[room.floor], room.floor);
   cv::Mat mask;
   const PartGeometry coarse = downsamplePartGeometry(fine, &mask);
   ASSERT_EQ(coarse.imageSize, cv::Size(W / 2, H / 2));
@@ -56,10 +57,11 @@ TEST(Render_Downsample, coarse_geometry_renders_the_box_average_of_the_fine_imag
       double num = 0, den = 0, sa = 0, sb = 0;
       for (const cv::Point& q : coarse.pixels) {
         const cv::Vec3f a = p.image.at<cv::Vec3f>(q), b = avg.at<cv::Vec3f>(q);
-        for (int c = 0; c < 3; ++c) num += std::abs(a[c] - b[c]), den += b[c], sa += a[c], sb += b[c];
+        for (int c = 0; c < 3; ++c)
+          num += std::abs(a[c] - b[c]), den += b[c], sa += a[c], sb += b[c];
       }
-      std::printf("rotation %d, scale %.2f: rel MAE %.4f, mean ratio %.4f over %d px\n", rot, scale, num / den, sa / sb,
-                  coarse.size());
+      std::printf("rotation %d, scale %.2f: rel MAE %.4f, mean ratio %.4f over %d px\n", rot, scale,
+                  num / den, sa / sb, coarse.size());
       EXPECT_LT(num / den, 0.05);
       EXPECT_NEAR(sa / sb, 1.0, 0.01);
     }
