@@ -56,8 +56,8 @@ struct PartFitOptions {
   /// the last `fineIterations` at full resolution (no searches there); the UV searches compare at
   /// `searchLevels` halvings: the grid is ranked there, its `searchKeep` best are compared again at
   /// full resolution and the refinement runs there. A level is used only if it keeps
-  /// >= minLevelPixels pixels (else the finest coarser one that does). 0 = full resolution
-  /// throughout (the paper).
+  /// >= minLevelPixels pixels (else the deepest level that does; a small part is fitted at full
+  /// resolution throughout). 0 = full resolution throughout.
   int coarseLevels = 1;
   int searchLevels = 2;
   int searchKeep = 8;
@@ -70,7 +70,9 @@ struct PartFitOptions {
   uint64_t seed = 1;
 
   /// "paper": 1000 iterations, maps 256, 72 rotations x 32 log-scales x 5 x 5 offsets every 50
-  /// iterations (the caller renders at 320 x 240). "balanced", "fast": less (see README).
+  /// iterations (the caller renders at 320 x 240; every step at full resolution, the search's grid
+  /// ranked at half resolution and its best 16 compared at full resolution). "balanced", "fast":
+  /// chosen by measurement (modules/optim/README.md).
   static PartFitOptions preset(const std::string& name);
   bool IsValid(std::string* error) const;
 };
