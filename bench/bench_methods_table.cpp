@@ -44,7 +44,9 @@ struct Method {
   double viewRmse = kNaN, viewSsim = kNaN, viewGmsd = kNaN, novelRmse = kNaN, relitRmse = kNaN;
 };
 
-double value(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : kNaN; }
+double value(const nlohmann::json& j) {
+  return j.is_number() ? j.get<double>() : kNaN;
+}
 
 /// Mean of `entry[space][key]` over an array of entries (NaN when none is a number).
 double meanOf(const nlohmann::json& arr, const char* key) {
@@ -79,7 +81,8 @@ void load(Method& m) {
     // Scoring the twin (the pipeline's "metrics" stage: renders of every view and ground truth)
     // is not part of the method's run time.
     const auto scoring = m.stages.find("metrics");
-    if (scoring != m.stages.end() && std::isfinite(scoring->second) && std::isfinite(m.total)) m.total -= scoring->second;
+    if (scoring != m.stages.end() && std::isfinite(scoring->second) && std::isfinite(m.total))
+      m.total -= scoring->second;
     m.viewRmse = meanOf(j.value("views", nlohmann::json()), "rmse");
     m.viewSsim = meanOf(j.value("views", nlohmann::json()), "ssim");
     m.viewGmsd = meanOf(j.value("views", nlohmann::json()), "gmsd");
@@ -92,7 +95,8 @@ void load(Method& m) {
 }
 
 void plot(const std::vector<Method>& methods, const std::string& caseName, const fs::path& file) {
-  const bool novel = std::any_of(methods.begin(), methods.end(), [](const Method& m) { return std::isfinite(m.novelRmse); });
+  const bool novel = std::any_of(methods.begin(), methods.end(),
+                                 [](const Method& m) { return std::isfinite(m.novelRmse); });
   struct Point {
     double x, y;  // log10 seconds, error
     std::string label;
@@ -102,21 +106,25 @@ void plot(const std::vector<Method>& methods, const std::string& caseName, const
   for (const Method& m : methods) {
     const double y = novel ? m.novelRmse : m.viewRmse;
     if (!m.ok || !std::isfinite(y)) continue;
-    if (m.name == "gt-twin") floorError = y;
-    else if (m.total > 0) pts.push_back({std::log10(m.total), y, m.name});
+    if (m.name == "gt-twin")
+      floorError = y;
+    else if (m.total > 0)
+      pts.push_back({std::log10(m.total), y, m.name});
   }
   const int W = 760, H = 480, L = 70, R = 200, T = 50, B = 60;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
   double x0 = 0, x1 = 1, y1 = std::isfinite(floorError) ? floorError : 1;
   if (!pts.empty()) {
     double lo = pts[0].x, hi = pts[0].x;
-    for (const auto& p : pts) lo = std::min(lo, p.x), hi = std::max(hi, p.x), y1 = std::max(y1, p.y);
+    for (const auto& p : pts)
+      lo = std::min(lo, p.x), hi = std::max(hi, p.x), y1 = std::max(y1, p.y);
     x0 = std::floor(lo - 0.1);
     x1 = std::ceil(hi + 0.1);
   }
   y1 *= 1.15;
   auto px = [&](double x, double y) {
-    return cv::Point(L + static_cast<int>((x - x0) / (x1 - x0) * (W - L - R)), H - B - static_cast<int>(y / y1 * (H - T - B)));
+    return cv::Point(L + static_cast<int>((x - x0) / (x1 - x0) * (W - L - R)),
+                     H - B - static_cast<int>(y / y1 * (H - T - B)));
   };
   const cv::Scalar black(0, 0, 0), gray(200, 200, 200);
   for (double d = x0; d <= x1 + 1e-9; d += 1) {
@@ -125,37 +133,43 @@ void plot(const std::vector<Method>& methods, const std::string& caseName, const
       cv::line(img, px(xl, 0), px(xl, y1), cv::Scalar(235, 235, 235), 1);
     }
     cv::line(img, px(d, 0), px(d, y1), gray, 1);
-    cv::putText(img, fmtNum(std::pow(10.0, d), d < 0 ? 1 : 0), px(d, 0) + cv::Point(-12, 20), cv::FONT_HERSHEY_SIMPLEX,
-                0.45, black, 1, cv::LINE_AA);
+    cv::putText(img, fmtNum(std::pow(10.0, d), d < 0 ? 1 : 0), px(d, 0) + cv::Point(-12, 20),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
   }
   for (int k = 0; k <= 5; ++k) {
     const double y = y1 * k / 5;
     cv::line(img, px(x0, y), px(x1, y), gray, 1);
-    cv::putText(img, fmtNum(y, 1), px(x0, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+    cv::putText(img, fmtNum(y, 1), px(x0, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                black, 1, cv::LINE_AA);
   }
   cv::rectangle(img, px(x0, 0), px(x1, y1), black, 1);
-  cv::putText(img, "total seconds (log)", cv::Point(L + (W - L - R) / 2 - 70, H - 15), cv::FONT_HERSHEY_SIMPLEX, 0.5, black,
-              1, cv::LINE_AA);
-  cv::putText(img, caseName + ": " + (novel ? "novel-view" : "input-view") + " RMSE (sRGB 0-255) against run time",
+  cv::putText(img, "total seconds (log)", cv::Point(L + (W - L - R) / 2 - 70, H - 15),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5, black, 1, cv::LINE_AA);
+  cv::putText(img,
+              caseName + ": " + (novel ? "novel-view" : "input-view") +
+                  " RMSE (sRGB 0-255) against run time",
               cv::Point(L, 30), cv::FONT_HERSHEY_SIMPLEX, 0.55, black, 1, cv::LINE_AA);
-  const cv::Scalar colors[] = {{200, 80, 30}, {40, 140, 40}, {30, 30, 200}, {160, 40, 160}, {20, 140, 200}, {90, 90, 90}};
+  const cv::Scalar colors[] = {{200, 80, 30},  {40, 140, 40},  {30, 30, 200},
+                               {160, 40, 160}, {20, 140, 200}, {90, 90, 90}};
   int legendY = T + 10;
   const int legendX = W - R + 15;
   for (size_t i = 0; i < pts.size(); ++i) {
     const cv::Scalar c = colors[i % 6];
     cv::circle(img, px(pts[i].x, pts[i].y), 6, c, cv::FILLED, cv::LINE_AA);
     cv::circle(img, cv::Point(legendX, legendY), 6, c, cv::FILLED, cv::LINE_AA);
-    cv::putText(img, pts[i].label + " " + fmtNum(pts[i].y, 1), cv::Point(legendX + 12, legendY + 5), cv::FONT_HERSHEY_SIMPLEX,
-                0.45, c, 1, cv::LINE_AA);
+    cv::putText(img, pts[i].label + " " + fmtNum(pts[i].y, 1), cv::Point(legendX + 12, legendY + 5),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
     legendY += 22;
   }
   if (std::isfinite(floorError)) {
     const cv::Scalar c(120, 120, 120);
     for (int x = px(x0, floorError).x; x < px(x1, floorError).x; x += 12)
-      cv::line(img, cv::Point(x, px(x0, floorError).y), cv::Point(x + 6, px(x0, floorError).y), c, 1, cv::LINE_AA);
-    cv::line(img, cv::Point(legendX - 8, legendY), cv::Point(legendX + 8, legendY), c, 1, cv::LINE_AA);
-    cv::putText(img, "true twin " + fmtNum(floorError, 1), cv::Point(legendX + 12, legendY + 5), cv::FONT_HERSHEY_SIMPLEX,
-                0.45, c, 1, cv::LINE_AA);
+      cv::line(img, cv::Point(x, px(x0, floorError).y), cv::Point(x + 6, px(x0, floorError).y), c,
+               1, cv::LINE_AA);
+    cv::line(img, cv::Point(legendX - 8, legendY), cv::Point(legendX + 8, legendY), c, 1,
+             cv::LINE_AA);
+    cv::putText(img, "true twin " + fmtNum(floorError, 1), cv::Point(legendX + 12, legendY + 5),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
   }
   cv::imwrite(file.string(), img);
 }
@@ -168,8 +182,10 @@ int main(int argc, char** argv) {
   std::vector<Method> methods;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--case" && i + 1 < argc) caseName = argv[++i];
-    else if (a == "--plot" && i + 1 < argc) plotFile = argv[++i];
+    if (a == "--case" && i + 1 < argc)
+      caseName = argv[++i];
+    else if (a == "--plot" && i + 1 < argc)
+      plotFile = argv[++i];
     else if (a.find('=') != std::string::npos) {
       Method m;
       const size_t e1 = a.find('=');
@@ -183,25 +199,41 @@ int main(int argc, char** argv) {
       m.dir = rest;
       methods.push_back(m);
     } else {
-      std::fprintf(stderr, "usage: %s --case NAME [--plot FILE.png] METHOD=OUT_DIR[=WALL_SECONDS]...\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s --case NAME [--plot FILE.png] METHOD=OUT_DIR[=WALL_SECONDS]...\n",
+                   argv[0]);
       return 2;
     }
   }
   // Stages in pipeline order (metrics.json objects are sorted by name), unknown ones after.
-  const std::vector<std::string> order = {"geometry", "align", "lights0", "incident0", "select", "fit", "lights1",
-                                          "incident1", "refine", "baseline-pixel-median", "baseline-shading-median",
-                                          "export", "metrics", "report"};
+  const std::vector<std::string> order = {"geometry",
+                                          "align",
+                                          "lights0",
+                                          "incident0",
+                                          "select",
+                                          "fit",
+                                          "lights1",
+                                          "incident1",
+                                          "refine",
+                                          "baseline-pixel-median",
+                                          "baseline-shading-median",
+                                          "export",
+                                          "metrics",
+                                          "report"};
   std::vector<std::string> stageNames;
   for (Method& m : methods) load(m);
   for (const auto& s : order)
-    if (std::any_of(methods.begin(), methods.end(), [&](const Method& m) { return m.stages.count(s) > 0; }))
+    if (std::any_of(methods.begin(), methods.end(),
+                    [&](const Method& m) { return m.stages.count(s) > 0; }))
       stageNames.push_back(s);
   for (const Method& m : methods)
     for (const auto& [k, v] : m.stages)
-      if (std::find(stageNames.begin(), stageNames.end(), k) == stageNames.end()) stageNames.push_back(k);
+      if (std::find(stageNames.begin(), stageNames.end(), k) == stageNames.end())
+        stageNames.push_back(k);
   std::cout << "### " << caseName << "\n\n| method |";
   for (const auto& s : stageNames) std::cout << " " << s << " s |";
-  std::cout << " total s (w/o metrics) | view RMSE | view SSIM | view GMSD | novel RMSE | relit RMSE |\n|---|";
+  std::cout << " total s (w/o metrics) | view RMSE | view SSIM | view GMSD | novel RMSE | relit "
+               "RMSE |\n|---|";
   for (size_t i = 0; i < stageNames.size() + 6; ++i) std::cout << "---|";
   std::cout << "\n";
   for (const Method& m : methods) {
@@ -215,10 +247,12 @@ int main(int argc, char** argv) {
       const auto it = m.stages.find(s);
       std::cout << " " << (it == m.stages.end() ? "-" : fmtNum(it->second, 1)) << " |";
     }
-    std::cout << " " << fmtNum(m.total, 1) << " | " << fmtNum(m.viewRmse, 2) << " | " << fmtNum(m.viewSsim, 3) << " | "
-              << fmtNum(m.viewGmsd, 3) << " | " << fmtNum(m.novelRmse, 2) << " | " << fmtNum(m.relitRmse, 2) << " |\n";
+    std::cout << " " << fmtNum(m.total, 1) << " | " << fmtNum(m.viewRmse, 2) << " | "
+              << fmtNum(m.viewSsim, 3) << " | " << fmtNum(m.viewGmsd, 3) << " | "
+              << fmtNum(m.novelRmse, 2) << " | " << fmtNum(m.relitRmse, 2) << " |\n";
   }
-  std::cout << "\nRMSE, SSIM and GMSD on the sRGB 8-bit scale (metrics.json color_spaces.srgb255); novel and relit: "
+  std::cout << "\nRMSE, SSIM and GMSD on the sRGB 8-bit scale (metrics.json color_spaces.srgb255); "
+               "novel and relit: "
                "mean over the case's ground-truth renders.\n";
   if (!plotFile.empty()) {
     plot(methods, caseName, plotFile);

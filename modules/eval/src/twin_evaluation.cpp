@@ -33,9 +33,11 @@ bool EvalOptions::IsValid(std::string* error) const {
 
 std::string colorSpaceDefinition(ColorSpace space) {
   if (space == ColorSpace::Srgb255)
-    return "255 * sRGB_OETF(clamp(linear, 0, 1)), unquantized: what an 8-bit display shows (the paper's scale); "
+    return "255 * sRGB_OETF(clamp(linear, 0, 1)), unquantized: what an 8-bit display shows (the "
+           "paper's scale); "
            "PSNR peak 255, SSIM dynamic range 255, GMSD c = 170";
-  return "scene-linear RGB as rendered (render x exposure) and as decoded from the photo or read from EXR, "
+  return "scene-linear RGB as rendered (render x exposure) and as decoded from the photo or read "
+         "from EXR, "
          "unclamped; PSNR peak 1, SSIM dynamic range 1, GMSD c = 170 / 255^2";
 }
 
@@ -65,7 +67,8 @@ std::optional<io::LightsFileDesc> tryLights(const fs::path& p, std::string* why 
     // Another program's lights description may share some keys (blender-room's lights_relit.json
     // has an "environment"): only a file with our "emitters" list counts.
     const nlohmann::json raw = io::readJsonFile(p);
-    if (!raw.is_object() || !raw.contains("emitters") || !raw["emitters"].is_array() || raw["emitters"].empty()) {
+    if (!raw.is_object() || !raw.contains("emitters") || !raw["emitters"].is_array() ||
+        raw["emitters"].empty()) {
       if (why) *why = p.string() + ": emitters: expected a non-empty list (lights.json form)";
       return std::nullopt;
     }
@@ -87,14 +90,16 @@ void requireRadiance(const Scene& scene, const std::string& file) {
   for (size_t i = 0; i < scene.lights.area.size(); ++i)
     if (!scene.lights.area[i].radiance)
       throw InputError(file, "emitters[" + std::to_string(i) + "].radiance",
-                       "a radiance for emitter '" + scene.lights.area[i].name + "' (the twin must be renderable)");
+                       "a radiance for emitter '" + scene.lights.area[i].name +
+                           "' (the twin must be renderable)");
   if (scene.lights.area.empty() && !scene.lights.environment)
     throw InputError(file, "emitters", "at least one emitter or an environment");
 }
 
 /// Index into `list` of the emitter that corresponds to `e`: same part, same name, or the
 /// nearest rectangle center within `maxDistance`; -1 when none.
-int matchEmitter(const io::AreaLightDesc& e, const std::vector<io::AreaLightDesc>& list, double maxDistance = 0.5) {
+int matchEmitter(const io::AreaLightDesc& e, const std::vector<io::AreaLightDesc>& list,
+                 double maxDistance = 0.5) {
   for (size_t i = 0; i < list.size(); ++i)
     if (e.part && list[i].part && *e.part == *list[i].part) return static_cast<int>(i);
   for (size_t i = 0; i < list.size(); ++i)
@@ -127,7 +132,8 @@ Vec3d ratio(const Vec3d& relit, const Vec3d& original) {
 
 /// The twin's lights for a relit ground truth (see the header: relative when the photo's lights
 /// are known, else the relit emitters themselves).
-LightSet relitLights(const Scene& twin, const GroundTruthRender& gt, std::vector<std::string>* notes) {
+LightSet relitLights(const Scene& twin, const GroundTruthRender& gt,
+                     std::vector<std::string>* notes) {
   const io::LightsFileDesc relit = io::readLightsJson(*gt.lights);
   std::optional<io::LightsFileDesc> original;
   if (gt.photoLights) original = tryLights(*gt.photoLights);
@@ -147,8 +153,10 @@ LightSet relitLights(const Scene& twin, const GroundTruthRender& gt, std::vector
     }
     ratios.push_back(r);
   }
-  if (counted > 0) mean /= counted;
-  else mean = Vec3d::Ones();
+  if (counted > 0)
+    mean /= counted;
+  else
+    mean = Vec3d::Ones();
 
   LightSet set = twin.lights;
   int unmatched = 0;
@@ -162,8 +170,8 @@ LightSet relitLights(const Scene& twin, const GroundTruthRender& gt, std::vector
     notes->push_back(gt.name + ": " + std::to_string(unmatched) +
                      " twin emitter(s) matched no relit emitter; scaled by the mean ratio");
   if (set.environment && relit.environment && original->environment)
-    set.environment->radiance =
-        set.environment->radiance.cwiseProduct(ratio(relit.environment->radiance, original->environment->radiance).cast<float>());
+    set.environment->radiance = set.environment->radiance.cwiseProduct(
+        ratio(relit.environment->radiance, original->environment->radiance).cast<float>());
   return set;
 }
 
@@ -174,7 +182,8 @@ std::string relativeTo(const fs::path& p, const fs::path& base) {
 
 }  // namespace
 
-std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numViews, std::vector<std::string>* notes) {
+std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numViews,
+                                               std::vector<std::string>* notes) {
   std::vector<GroundTruthRender> found;
   const fs::path gtDir = caseDir / "gt";
   if (!fs::is_directory(gtDir)) return found;
@@ -183,7 +192,8 @@ std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numV
   for (const auto& entry : fs::directory_iterator(gtDir)) {
     std::smatch m;
     const std::string file = entry.path().filename().string();
-    if (entry.is_regular_file() && std::regex_match(file, m, pattern)) names[m[1].str() + m[2].str()] = gtDir / (m[1].str() + m[2].str());
+    if (entry.is_regular_file() && std::regex_match(file, m, pattern))
+      names[m[1].str() + m[2].str()] = gtDir / (m[1].str() + m[2].str());
   }
   std::optional<fs::path> photoLights;
   for (const fs::path& p : {gtDir / "twin" / "lights.json", caseDir / "lights_gt.json"})
@@ -207,8 +217,10 @@ std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numV
       }
     } else {
       std::string why;
-      for (const fs::path& p : {caseDir / ("lights_relit" + k + ".json"), caseDir / "lights_relit.json",
-                                gtDir / "twin" / ("lights_relit" + k + ".json"), gtDir / "twin" / "lights_relit.json"}) {
+      for (const fs::path& p :
+           {caseDir / ("lights_relit" + k + ".json"), caseDir / "lights_relit.json",
+            gtDir / "twin" / ("lights_relit" + k + ".json"),
+            gtDir / "twin" / "lights_relit.json"}) {
         std::string w;
         if (tryLights(p, &w)) {
           gt.lights = p;
@@ -217,7 +229,9 @@ std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numV
         if (!w.empty() && why.empty()) why = w;
       }
       if (!gt.lights) {
-        if (notes) notes->push_back(name + ": skipped, no lights_relit.json in lights.json form" + (why.empty() ? "" : " (" + why + ")"));
+        if (notes)
+          notes->push_back(name + ": skipped, no lights_relit.json in lights.json form" +
+                           (why.empty() ? "" : " (" + why + ")"));
         continue;
       }
       gt.photoLights = photoLights;
@@ -229,23 +243,26 @@ std::vector<GroundTruthRender> findGroundTruth(const fs::path& caseDir, int numV
   return found;
 }
 
-TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, const EvalOptions& options) {
+TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
+                            const EvalOptions& options) {
   Timer timer;
   std::string err;
   if (!options.IsValid(&err)) throw InputError("command line", "eval options", err);
   if (!fs::is_directory(outDir))
-    throw InputError(outDir.string(), "", "a twin output folder (with scene.json, lights.json, materials/)");
+    throw InputError(outDir.string(), "",
+                     "a twin output folder (with scene.json, lights.json, materials/)");
   TwinEvaluation result;
   const Scene input = loadScene(scenePath);  // photos and segments
   Twin twin = loadTwin(outDir, false);
   result.preset = twin.scene.desc.options.preset;
-  const std::string lightsFile =
-      fs::exists(outDir / "lights.json") ? (outDir / "lights.json").string() : (outDir / "scene.json").string();
+  const std::string lightsFile = fs::exists(outDir / "lights.json")
+                                     ? (outDir / "lights.json").string()
+                                     : (outDir / "scene.json").string();
   requireRadiance(twin.scene, lightsFile);
   if (twin.scene.views.size() != input.views.size())
     throw InputError((outDir / "scene.json").string(), "views",
-                     std::to_string(input.views.size()) + " views as in " + scenePath.string() + ", got " +
-                         std::to_string(twin.scene.views.size()));
+                     std::to_string(input.views.size()) + " views as in " + scenePath.string() +
+                         ", got " + std::to_string(twin.scene.views.size()));
 
   const PathTracer tracer(twin.scene, twin.materials);
   RenderOptions ro;
@@ -263,9 +280,11 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
   for (size_t i = 0; i < input.views.size(); ++i) {
     const View& view = input.views[i];
     const Camera& camera = view.camera;
-    if (twin.scene.views[i].camera.width() != camera.width() || twin.scene.views[i].camera.height() != camera.height())
-      throw InputError((outDir / "scene.json").string(), "views[" + std::to_string(i) + "].camera",
-                       "the size of the photo of " + scenePath.string() + " view " + std::to_string(i));
+    if (twin.scene.views[i].camera.width() != camera.width() ||
+        twin.scene.views[i].camera.height() != camera.height())
+      throw InputError(
+          (outDir / "scene.json").string(), "views[" + std::to_string(i) + "].camera",
+          "the size of the photo of " + scenePath.string() + " view " + std::to_string(i));
     const double exposure = twin.exposure[i];
     ViewScore vs;
     vs.view = static_cast<int>(i);
@@ -273,7 +292,8 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
     cv::Mat exposed;  // the render times exposure[i], compared with the photo
     const fs::path saved = outDir / "renders" / ("view" + std::to_string(i) + ".exr");
     if (options.useSavedRenders && fs::is_regular_file(saved)) {
-      exposed = io::readImage(saved);  // written with the exposure applied, as `photoscene render OUT`
+      exposed =
+          io::readImage(saved);  // written with the exposure applied, as `photoscene render OUT`
       if (exposed.size() != view.photo.size()) {
         result.notes.push_back(saved.string() + " is not of the photo's size: rendered again");
         exposed.release();
@@ -285,8 +305,8 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
       Timer t;
       exposed = renderTwinView(tracer, camera, ro, exposure);
       vs.render = "path tracer, " + std::to_string(options.spp) + " spp";
-      spdlog::info("eval: rendered view {} ({}x{}, {} spp) in {:.1f}s", i, camera.width(), camera.height(),
-                   options.spp, t.seconds());
+      spdlog::info("eval: rendered view {} ({}x{}, {} spp) in {:.1f}s", i, camera.width(),
+                   camera.height(), options.spp, t.seconds());
     }
     vs.score = score(exposed, view.photo);
     result.views.push_back(vs);
@@ -332,11 +352,14 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
   if (options.groundTruth) {
     const fs::path caseDir = input.desc.baseDir;
     const double meanExposure = geometricMean(twin.exposure);
-    for (const GroundTruthRender& gt : findGroundTruth(caseDir, static_cast<int>(input.views.size()), &result.notes)) {
+    for (const GroundTruthRender& gt :
+         findGroundTruth(caseDir, static_cast<int>(input.views.size()), &result.notes)) {
       const cv::Mat reference = io::readImage(gt.image);
-      Camera camera = gt.camera ? Camera::fromDesc(io::readCameraJson(*gt.camera)) : input.views[gt.view].camera;
+      Camera camera = gt.camera ? Camera::fromDesc(io::readCameraJson(*gt.camera))
+                                : input.views[gt.view].camera;
       if (camera.width() != reference.cols || camera.height() != reference.rows) {
-        result.notes.push_back(gt.name + ": camera resized to the reference's " + std::to_string(reference.cols) + "x" +
+        result.notes.push_back(gt.name + ": camera resized to the reference's " +
+                               std::to_string(reference.cols) + "x" +
                                std::to_string(reference.rows));
         camera = camera.resized(reference.cols, reference.rows);
       }
@@ -354,8 +377,8 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
         render = renderTwinView(relitTracer, camera, ro, e);
         result.relit.push_back({gt.name, score(render, reference)});
       }
-      spdlog::info("eval: {} ({}x{}, {} spp) in {:.1f}s", gt.name, camera.width(), camera.height(), options.spp,
-                   t.seconds());
+      spdlog::info("eval: {} ({}x{}, {} spp) in {:.1f}s", gt.name, camera.width(), camera.height(),
+                   options.spp, t.seconds());
     }
   }
   result.seconds = timer.seconds();
@@ -364,16 +387,22 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath, c
 
 namespace {
 
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 nlohmann::json metricsJson(const ImageMetrics& m) {
-  return {{"rmse", number(m.rmse)}, {"psnr", number(m.psnr)}, {"ssim", number(m.ssim)}, {"gmsd", number(m.gmsd)}};
+  return {{"rmse", number(m.rmse)},
+          {"psnr", number(m.psnr)},
+          {"ssim", number(m.ssim)},
+          {"gmsd", number(m.gmsd)}};
 }
 
 }  // namespace
 
-void writeMetricsJson(const fs::path& outDir, const TwinEvaluation& e, const std::map<std::string, double>& stageSeconds,
-                      const std::string& preset, double totalSeconds) {
+void writeMetricsJson(const fs::path& outDir, const TwinEvaluation& e,
+                      const std::map<std::string, double>& stageSeconds, const std::string& preset,
+                      double totalSeconds) {
   const fs::path file = outDir / "metrics.json";
   nlohmann::json old = nlohmann::json::object();
   if (fs::exists(file)) {
@@ -390,7 +419,9 @@ void writeMetricsJson(const fs::path& outDir, const TwinEvaluation& e, const std
                        {"linear", colorSpaceDefinition(ColorSpace::Linear)}};
   nlohmann::json views = nlohmann::json::array();
   for (const ViewScore& v : e.views)
-    views.push_back({{"view", v.view}, {"image", v.image}, {"srgb255", metricsJson(v.score.srgb255)},
+    views.push_back({{"view", v.view},
+                     {"image", v.image},
+                     {"srgb255", metricsJson(v.score.srgb255)},
                      {"linear", metricsJson(v.score.linear)}});
   j["views"] = views;
   nlohmann::json parts = nlohmann::json::object();
@@ -403,7 +434,9 @@ void writeMetricsJson(const fs::path& outDir, const TwinEvaluation& e, const std
   for (const auto& [key, list] : {std::pair{"novel", &e.novel}, std::pair{"relit", &e.relit}}) {
     nlohmann::json arr = nlohmann::json::array();
     for (const GroundTruthScore& g : *list)
-      arr.push_back({{"name", g.name}, {"srgb255", metricsJson(g.score.srgb255)}, {"linear", metricsJson(g.score.linear)}});
+      arr.push_back({{"name", g.name},
+                     {"srgb255", metricsJson(g.score.srgb255)},
+                     {"linear", metricsJson(g.score.linear)}});
     j[key] = arr;
   }
   if (!stageSeconds.empty()) {
@@ -417,11 +450,15 @@ void writeMetricsJson(const fs::path& outDir, const TwinEvaluation& e, const std
     j["total_seconds"] = number(std::isnan(totalSeconds) ? sum : totalSeconds);
   } else {
     if (!j.contains("stages")) j["stages"] = nlohmann::json::object();
-    if (!std::isnan(totalSeconds)) j["total_seconds"] = number(totalSeconds);
-    else if (!j.contains("total_seconds")) j["total_seconds"] = nullptr;
+    if (!std::isnan(totalSeconds))
+      j["total_seconds"] = number(totalSeconds);
+    else if (!j.contains("total_seconds"))
+      j["total_seconds"] = nullptr;
   }
-  if (!preset.empty()) j["preset"] = preset;
-  else if (!j.contains("preset")) j["preset"] = e.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.preset);
+  if (!preset.empty())
+    j["preset"] = preset;
+  else if (!j.contains("preset"))
+    j["preset"] = e.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.preset);
   io::writeJsonFile(file, j);
 }
 

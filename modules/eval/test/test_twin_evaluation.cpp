@@ -14,9 +14,11 @@ namespace fs = std::filesystem;
 
 TEST(Eval_Metrics, ssim_of_constant_images_is_the_luminance_term) {
   // Constant images have zero variance: SSIM = (2 a b + C1) / (a^2 + b^2 + C1), C1 = (0.01 L)^2.
-  const cv::Mat a(16, 16, CV_32FC3, cv::Scalar::all(0.25)), b(16, 16, CV_32FC3, cv::Scalar::all(0.35));
+  const cv::Mat a(16, 16, CV_32FC3, cv::Scalar::all(0.25)),
+      b(16, 16, CV_32FC3, cv::Scalar::all(0.35));
   const double c1 = 1e-4;
-  EXPECT_NEAR(ssim(a, b, ColorSpace::Linear), (2 * 0.25 * 0.35 + c1) / (0.25 * 0.25 + 0.35 * 0.35 + c1), 1e-5);
+  EXPECT_NEAR(ssim(a, b, ColorSpace::Linear),
+              (2 * 0.25 * 0.35 + c1) / (0.25 * 0.25 + 0.35 * 0.35 + c1), 1e-5);
 }
 
 TwinEvaluation someEvaluation() {
@@ -52,7 +54,8 @@ TEST(Eval_TwinEvaluation, metrics_json_has_the_schema_writes_null_for_non_finite
   EXPECT_DOUBLE_EQ(j["stages"]["select"].get<double>(), 2.0);
   EXPECT_DOUBLE_EQ(j["total_seconds"].get<double>(), 3.5);
   EXPECT_EQ(j["preset"], "fast");
-  // `photoscene eval` rewrites the metrics without stages: stages, total, preset and other keys stay.
+  // `photoscene eval` rewrites the metrics without stages: stages, total, preset and other keys
+  // stay.
   j["method"] = "pixel-median";
   io::writeJsonFile(dir / "metrics.json", j);
   writeMetricsJson(dir.path(), someEvaluation());
@@ -71,11 +74,12 @@ TEST(Eval_TwinEvaluation, ground_truth_is_found_in_both_case_layouts) {
   io::TempDir dir;
   fs::create_directories(dir / "gt" / "twin");
   fs::create_directories(dir / "cameras");
-  for (const char* f : {"gt/novel0.exr", "gt/novel0.png", "gt/novel1.png", "gt/relit0.exr", "gt/view0.exr",
-                        "cameras/novel0.json"})
+  for (const char* f : {"gt/novel0.exr", "gt/novel0.png", "gt/novel1.png", "gt/relit0.exr",
+                        "gt/view0.exr", "cameras/novel0.json"})
     std::ofstream(dir / f) << "x";
   // novel1 has no camera; relit0's lights come from gt/twin (the case's own file is another form)
-  std::ofstream(dir / "lights_relit.json") << R"({"area": [], "environment": {"radiance": [1, 1, 1]}})";
+  std::ofstream(dir / "lights_relit.json")
+      << R"({"area": [], "environment": {"radiance": [1, 1, 1]}})";
   std::ofstream(dir / "gt" / "twin" / "lights_relit.json") << kLights;
   std::ofstream(dir / "gt" / "twin" / "lights.json") << kLights;
   std::vector<std::string> notes;

@@ -8,9 +8,10 @@
 //
 // What is compared (every number in both color spaces of metrics.hpp: srgb255 and linear):
 //   views   input view i: the twin's render times exposure[i] (OUT/lights.json) against photo i,
-//           whole image (RMSE, PSNR, SSIM, GMSD). The render is OUT/renders/view<i>.exr when present
-//           and of the photo's size (written WITH the exposure applied, as `photoscene render OUT`
-//           writes input views), else the twin path-traced here at options.spp times exposure[i].
+//           whole image (RMSE, PSNR, SSIM, GMSD). The render is OUT/renders/view<i>.exr when
+//           present and of the photo's size (written WITH the exposure applied, as `photoscene
+//           render OUT` writes input views), else the twin path-traced here at options.spp times
+//           exposure[i].
 //   parts   the paper's per-part error: RMSE over the part's aligned mask M_aln (photo frame).
 //           The G-buffer of the twin's geometry gives M_geo; the view's label image (regions
 //           matched to parts with align::matchRegions, segment_parts pinned) or, without one,
@@ -65,26 +66,26 @@ struct ImageScore {
 
 struct ViewScore {
   int view = 0;
-  std::string image;      ///< the photo, as named in scene.json (relative to its folder)
+  std::string image;  ///< the photo, as named in scene.json (relative to its folder)
   ImageScore score;
-  std::string render;     ///< "renders/view<i>.exr", or "path tracer, <spp> spp"
+  std::string render;  ///< "renders/view<i>.exr", or "path tracer, <spp> spp"
 };
 
 struct PartScore {
   std::string part;
-  int view = -1;          ///< the view it was scored in
-  int pixels = 0;         ///< M_aln pixels in that view
+  int view = -1;   ///< the view it was scored in
+  int pixels = 0;  ///< M_aln pixels in that view
   double rmseSrgb255 = 0, rmseLinear = 0;
 };
 
 /// A ground-truth render found in a case folder.
 struct GroundTruthRender {
-  std::string name;                              ///< "novel0", "relit0", ...
+  std::string name;  ///< "novel0", "relit0", ...
   enum class Kind { Novel, Relit } kind = Kind::Novel;
-  std::filesystem::path image;                   ///< the reference render (linear after reading)
-  std::optional<std::filesystem::path> camera;   ///< camera object; absent: input view `view`
-  int view = 0;                                  ///< input view whose camera is used without `camera`
-  std::optional<std::filesystem::path> lights;   ///< Relit: the relit lights (lights.json form)
+  std::filesystem::path image;                  ///< the reference render (linear after reading)
+  std::optional<std::filesystem::path> camera;  ///< camera object; absent: input view `view`
+  int view = 0;  ///< input view whose camera is used without `camera`
+  std::optional<std::filesystem::path> lights;       ///< Relit: the relit lights (lights.json form)
   std::optional<std::filesystem::path> photoLights;  ///< Relit: the lights of the photo, if given
 };
 
@@ -95,11 +96,11 @@ struct GroundTruthScore {
 
 struct TwinEvaluation {
   std::vector<ViewScore> views;
-  std::vector<PartScore> parts;            ///< sorted by part name
+  std::vector<PartScore> parts;  ///< sorted by part name
   std::vector<GroundTruthScore> novel, relit;
-  std::vector<std::string> notes;          ///< ground truth skipped and why, renders made here
-  std::string preset;                      ///< OUT/scene.json options.preset (may be empty)
-  double seconds = 0;                      ///< time evaluateTwin took
+  std::vector<std::string> notes;  ///< ground truth skipped and why, renders made here
+  std::string preset;              ///< OUT/scene.json options.preset (may be empty)
+  double seconds = 0;              ///< time evaluateTwin took
 };
 
 /// The ground-truth renders of a case folder (see the header comment for the layouts).
@@ -109,7 +110,8 @@ std::vector<GroundTruthRender> findGroundTruth(const std::filesystem::path& case
 /// Scores the twin in `outDir` against the photos of `scenePath` and the case's ground truth.
 /// Throws ps::InputError when outDir is not a twin folder, scenePath is bad input, their views
 /// disagree in number or size, or an emitter of the twin has no radiance.
-TwinEvaluation evaluateTwin(const std::filesystem::path& outDir, const std::filesystem::path& scenePath,
+TwinEvaluation evaluateTwin(const std::filesystem::path& outDir,
+                            const std::filesystem::path& scenePath,
                             const EvalOptions& options = {});
 
 /// Writes OUT/metrics.json atomically:
@@ -126,7 +128,8 @@ TwinEvaluation evaluateTwin(const std::filesystem::path& outDir, const std::file
 /// @param totalSeconds  NaN: the sum of stageSeconds
 /// Other top-level keys of an existing metrics.json are kept.
 void writeMetricsJson(const std::filesystem::path& outDir, const TwinEvaluation& evaluation,
-                      const std::map<std::string, double>& stageSeconds = {}, const std::string& preset = "",
+                      const std::map<std::string, double>& stageSeconds = {},
+                      const std::string& preset = "",
                       double totalSeconds = std::numeric_limits<double>::quiet_NaN());
 
 /// The one-line definitions written under "color_spaces".
