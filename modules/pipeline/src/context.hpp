@@ -73,6 +73,7 @@ struct PartWork {
   std::vector<double> history;
   // second round
   float albedoScale = 1.0f;
+  Vec3f albedoOffset = Vec3f::Zero();  ///< added to the albedo map before the scale
   float roughnessFactor = 1.0f;
   double refineLoss = 0;
   uint64_t selectKey = 0, fitKey = 0, refineKey = 0;

@@ -69,7 +69,8 @@ void writeTextures(Context& ctx, const PartWork& p, io::MaterialFileDesc& m, con
   m.maps["normal"] = tex / (p.name + "_normal.png");
   m.maps["roughness"] = tex / (p.name + "_roughness.png");
   const cv::Scalar mean = cv::mean(albedo);
-  m.homogeneous.albedo = Vec3d(mean[0], mean[1], mean[2]) * p.albedoScale;
+  m.homogeneous.albedo =
+      ((Vec3d(mean[0], mean[1], mean[2]) + p.albedoOffset.cast<double>()) * p.albedoScale).cwiseMax(0.0).cwiseMin(1.0);
   m.homogeneous.roughness = std::clamp(p.roughness * p.roughnessFactor, 0.0f, 1.0f);
   nlohmann::json params = nlohmann::json::object();
   for (const GraphParameter& gp : g.parameters()) {
@@ -99,6 +100,7 @@ void writeMaterials(Context& ctx, const fs::path& out) {
         m.uv.scale = t.scale.cast<double>();
         m.uv.offset = t.offset.cast<double>();
         m.albedoScale = p.albedoScale;
+        m.albedoOffset = p.albedoOffset.cast<double>();
         m.roughnessScale = p.roughnessScale * p.roughnessFactor;
         break;
       }
@@ -237,7 +239,7 @@ void stageExport(Context& ctx) {
   StageScope stage(ctx, "export");
   const fs::path& out = ctx.options.out;
   Hasher h;
-  h.add(uint64_t{5}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
+  h.add(uint64_t{6}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
   h.add(static_cast<int>(ctx.options.baseline)).add(ctx.options.writeReport).add(ctx.options.writeGltf);
   for (const PartWork& p : ctx.parts) h.add(static_cast<int>(p.mode)).add(p.fitKey).add(p.refineKey);
   for (const AreaLight& l : ctx.scene.lights.area) {

@@ -52,7 +52,7 @@ int PipelineResult::computedUnits() const {
 namespace pipeline {
 
 // Bump when a stage's algorithm changes so old cache entries are not reused.
-constexpr uint64_t kCacheVersion = 5;
+constexpr uint64_t kCacheVersion = 6;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;
@@ -237,6 +237,7 @@ std::vector<PartMaterial> Context::fittedMaterials(int mapSize, bool withRefine)
       m.roughnessMap = FloatTexture(maps.roughness);
       m.uv = p.uv.toTransform();
       m.albedoScale = as;
+      if (withRefine) m.albedoOffset = p.albedoOffset;
       m.roughnessScale = p.roughnessScale * rf;
       m.roughness = p.roughness;
       m.fromFile = true;
@@ -807,6 +808,7 @@ void stageRefine(Context& ctx, int round) {
     p.refineKey = h.digest();
     if (auto hit = ctx.cache->load(entry + p.name, p.refineKey)) {
       p.albedoScale = hit->get<float>();
+      for (int k = 0; k < 3; ++k) p.albedoOffset[k] = hit->get<float>();
       p.roughnessFactor = hit->get<float>();
       for (int k = 0; k < 3; ++k) p.albedo[k] = hit->get<float>();
       p.roughness = hit->get<float>();
@@ -850,20 +852,30 @@ void stageRefine(Context& ctx, int round) {
         rp.albedo = maps.albedo;
         renderLayerForward(rp);
         const cv::Mat d = rp.image - i0;
-        // one scale for the albedo: least squares on the channel means
+        rp.albedo = cv::Mat(maps.albedo.size(), CV_32FC3, cv::Scalar::all(1));
+        renderLayerForward(rp);
+        const cv::Mat w = rp.image - i0;  // the diffuse response to a white albedo
+        // the render is linear in the albedo (a dielectric): i0 + s (d + o (.) w) for the contract's
+        // albedo = s (map + o). One scale s by least squares on the channel means, then the
+        // per-channel offset o that matches each channel's mean: the pattern keeps its contrast, the
+        // colour comes out right even where the graph's colour parameters could not reach it.
         double num = 0, den = 0;
-        const cv::Scalar mp = cv::mean(photo, view.fitMask.at(p.id)), m0 = cv::mean(i0, view.fitMask.at(p.id)),
-                         md = cv::mean(d, view.fitMask.at(p.id));
+        const cv::Mat& fm = view.fitMask.at(p.id);
+        const cv::Scalar mp = cv::mean(photo, fm), m0 = cv::mean(i0, fm), md = cv::mean(d, fm), mw = cv::mean(w, fm);
         for (int k = 0; k < 3; ++k) {
           num += (mp[k] - m0[k]) * md[k];
           den += md[k] * md[k];
         }
         const float s = den > 1e-12 ? std::clamp(static_cast<float>(num / den), 0.25f, 4.0f) : 1.0f;
-        const cv::Mat render = i0 + d * s;
+        Vec3f o = Vec3f::Zero();
+        for (int k = 0; k < 3; ++k)
+          if (mw[k] > 1e-9) o[k] = std::clamp(static_cast<float>((mp[k] - m0[k] - s * md[k]) / (s * mw[k])), -0.5f, 0.5f);
+        const cv::Mat render = i0 + (d + w.mul(cv::Scalar(o.x(), o.y(), o.z()))) * s;
         const double loss = statLoss(photo, render, geo.pixels, nullptr);
         if (loss < bestLoss) {
           bestLoss = loss;
           p.albedoScale = s;
+          p.albedoOffset = o;
           p.roughnessFactor = rp.roughnessValue / std::max(p.roughness, 1e-4f);
         }
       }
@@ -871,6 +883,7 @@ void stageRefine(Context& ctx, int round) {
     }
     Archive a;
     a.put(p.albedoScale);
+    for (int k = 0; k < 3; ++k) a.put(p.albedoOffset[k]);
     a.put(p.roughnessFactor);
     for (int k = 0; k < 3; ++k) a.put(p.albedo[k]);
     a.put(p.roughness);
