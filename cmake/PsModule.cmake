@@ -1,10 +1,12 @@
 # ps_define_module(<name> [DEPS <module>...] [PUBLIC_LIBS <target>...] [PRIVATE_LIBS <target>...]
-#                  [TEST_LIBS <target>...])
+#                  [TEST_LIBS <target>...] [WHOLE_SUITES <suite>...])
 #
 # Defines an OpenCV-style module from modules/<name>:
 #   include/photoscene/<name>.hpp (+ include/photoscene/<name>/*.hpp)  public headers
 #   src/*.cpp                                                           the library ps_<name>
 #   test/*.cpp   -> ps_test_<name> (GoogleTest, every test registered with ctest)
+#                   WHOLE_SUITES: fixtures whose SetUpTestSuite is expensive (a pipeline run) are
+#                   registered as one ctest test <suite>.* so the set-up runs once, not per test.
 #   perf/*.cpp   -> ps_perf_<name> (Google Benchmark)
 # DEPS names other photoscene modules (without the ps_ prefix). Modules may be declared in any
 # order; ps_check_module_graph() refuses a dependency cycle or an unknown module at the end.
@@ -12,7 +14,7 @@
 define_property(GLOBAL PROPERTY PS_MODULES BRIEF_DOCS "photoscene modules" FULL_DOCS "all modules")
 
 function(ps_define_module name)
-  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS;TEST_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS;TEST_LIBS;WHOLE_SUITES" ${ARGN})
   set(target ps_${name})
   file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
   file(GLOB_RECURSE hdrs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/include/*.hpp)
@@ -40,8 +42,21 @@ function(ps_define_module name)
       target_compile_definitions(ps_test_${name} PRIVATE
         PS_SHARED_DATA_DIR="${PS_SHARED_DATA_DIR}" PS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
         PS_BINARY_DIR="${CMAKE_BINARY_DIR}")
-      gtest_discover_tests(ps_test_${name} DISCOVERY_MODE PRE_TEST
-        WORKING_DIRECTORY ${CMAKE_BINARY_DIR} PROPERTIES LABELS ${name})
+      set(filter)
+      foreach(suite IN LISTS ARG_WHOLE_SUITES)
+        list(APPEND filter "${suite}.*")
+        add_test(NAME ${suite}.all COMMAND ps_test_${name} --gtest_filter=${suite}.*
+          WORKING_DIRECTORY ${CMAKE_BINARY_DIR})
+        set_tests_properties(${suite}.all PROPERTIES LABELS ${name})
+      endforeach()
+      if(filter)
+        list(JOIN filter ":" filter)
+        gtest_discover_tests(ps_test_${name} DISCOVERY_MODE PRE_TEST TEST_FILTER "-${filter}"
+          WORKING_DIRECTORY ${CMAKE_BINARY_DIR} PROPERTIES LABELS ${name})
+      else()
+        gtest_discover_tests(ps_test_${name} DISCOVERY_MODE PRE_TEST
+          WORKING_DIRECTORY ${CMAKE_BINARY_DIR} PROPERTIES LABELS ${name})
+      endif()
     endif()
   endif()
   if(PS_BUILD_PERF)
