@@ -19,6 +19,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev             # unit tests
   libbenchmark-dev                      # micro benchmarks
   nodejs                                # report viewer: three.js vendored and bundled at build time
+  clang libclang-rt-14-dev              # sanitizer build (scripts/sanitize.sh) and libFuzzer targets
 )
 # Optional: installed when the distribution has it, never failing the setup (the headless-browser
 # test of report.html skips without it).
