@@ -3,8 +3,7 @@
 # (-fno-sanitize-recover: the first UB report fails the test), -O1, into ${ASAN_BUILD_DIR:-build-asan}.
 #
 #   scripts/sanitize.sh          the whole project (every module, app, sample, test; no benchmarks),
-#                                every ctest test; PS_TEST_REDUCED=1 shrinks the slowest end-to-end
-#                                tests (see README "Robustness").
+#                                every ctest test at full size (about 3 x slower than Release).
 #   scripts/sanitize.sh --ci     what CI runs after the normal build: the modules that read
 #                                untrusted input (scene.json, OBJ, images, label images, graph JSON)
 #                                and their tests: core, io, scene, graph, and the fuzz regression
@@ -29,7 +28,6 @@ CC=clang CXX=clang++ cmake -S . -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE
 export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp
-export PS_TEST_REDUCED=1
 
 if [ "$MODE" = "--ci" ]; then
   LABELS=(core io scene graph fuzz)
