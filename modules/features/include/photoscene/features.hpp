@@ -11,3 +11,4 @@
 
 #include "photoscene/features/texture_descriptor.hpp"
 #include "photoscene/features/texture_loss.hpp"
+#include "photoscene/features/texture_structure.hpp"
