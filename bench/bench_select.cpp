@@ -4,6 +4,8 @@
 // blur, noise, odd masks; queried with their UVs through selectForPart).
 //   ps_bench_select [--draws N] [--scales a,b,c] [--size S] [--map M] [--k K] [--observed N]
 //                   [--shading S] [--category-first 0|1] [--projection 0|1] [--linear-only 1]
+//                   [--seed S (held-out draws; the test's: 2024)] [--observed-protocol 0|1]
+//                   [--structure W] [--sweep-k 1 (k and category-first vote)] [--profile-only 1]
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -11,28 +13,51 @@
 #include <sstream>
 
 #include "photoscene/core.hpp"
+#include "photoscene/features.hpp"
 #include "photoscene/select.hpp"
 
 int main(int argc, char** argv) {
   ps::initLogging(ps::LogLevel::Warn);
   ps::ExemplarBankOptions options;
   ps::HeldOutOptions held;
-  bool linearOnly = false;
+  bool linearOnly = false, observedProtocol = true, profileOnly = false, sweepK = false;
   std::string cache;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--draws") options.drawsPerGraph = std::atoi(v.c_str());
-    else if (a == "--size") options.renderSize = std::atoi(v.c_str());
-    else if (a == "--map") options.mapSize = std::atoi(v.c_str());
-    else if (a == "--k") held.k = std::atoi(v.c_str());
-    else if (a == "--heldout") held.drawsPerGraph = std::atoi(v.c_str());
-    else if (a == "--observed") options.observedPerDraw = std::atoi(v.c_str());
-    else if (a == "--shading") options.shadingSigma = std::stof(v);
-    else if (a == "--stats") options.statisticsWeight = std::stof(v);
-    else if (a == "--cache") cache = v;
-    else if (a == "--category-first") held.categoryFirst = std::atoi(v.c_str()) != 0;
-    else if (a == "--projection") options.discriminantProjection = std::atoi(v.c_str()) != 0;
-    else if (a == "--linear-only") linearOnly = std::atoi(v.c_str()) != 0;
+    if (a == "--draws")
+      options.drawsPerGraph = std::atoi(v.c_str());
+    else if (a == "--size")
+      options.renderSize = std::atoi(v.c_str());
+    else if (a == "--map")
+      options.mapSize = std::atoi(v.c_str());
+    else if (a == "--k")
+      held.k = std::atoi(v.c_str());
+    else if (a == "--heldout")
+      held.drawsPerGraph = std::atoi(v.c_str());
+    else if (a == "--observed")
+      options.observedPerDraw = std::atoi(v.c_str());
+    else if (a == "--shading")
+      options.shadingSigma = std::stof(v);
+    else if (a == "--stats")
+      options.statisticsWeight = std::stof(v);
+    else if (a == "--structure")
+      options.structureWeight = std::stof(v);
+    else if (a == "--cache")
+      cache = v;
+    else if (a == "--category-first")
+      held.categoryFirst = std::atoi(v.c_str()) != 0;
+    else if (a == "--projection")
+      options.discriminantProjection = std::atoi(v.c_str()) != 0;
+    else if (a == "--sweep-k")
+      sweepK = std::atoi(v.c_str()) != 0;
+    else if (a == "--profile-only")
+      profileOnly = std::atoi(v.c_str()) != 0;
+    else if (a == "--linear-only")
+      linearOnly = std::atoi(v.c_str()) != 0;
+    else if (a == "--seed")
+      held.seed = std::stoull(v);
+    else if (a == "--observed-protocol")
+      observedProtocol = std::atoi(v.c_str()) != 0;
     else if (a == "--scales") {
       options.uvScales.clear();
       std::stringstream ss(v);
@@ -44,13 +69,45 @@ int main(int argc, char** argv) {
     }
   }
   const ps::GraphLibrary lib = ps::GraphLibrary::load();
+  {
+    // where a query's time goes (observed planes: unwarp, texture key, statistics, structure)
+    ps::Rng rng(5);
+    double tPrep = 0, tKey = 0, tAll = 0, tStruct = 0;
+    const int n = 40;
+    for (int i = 0; i < n; ++i) {
+      ps::MaterialGraph g = lib.create(lib.names()[(i * 7) % lib.size()]);
+      const ps::MaterialMaps maps =
+          g.evaluate(options.mapSize, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal}));
+      const ps::ObservedPlane obs =
+          ps::renderObservedPlane(maps, ps::randomObservation(options.observation, rng));
+      ps::Timer a;
+      const ps::PartTexture tex =
+          ps::preparePartTexture(obs.image, obs.mask, obs.uv, cv::Mat(), options.shadingSigma);
+      tPrep += a.seconds();
+      ps::Timer b;
+      ps::computeTextureKey(tex.image, tex.mask, options.key);
+      tKey += b.seconds();
+      ps::Timer c;
+      ps::computeStructureKey(tex.image, tex.mask, options.structure);
+      tStruct += c.seconds();
+      ps::Timer d;
+      ps::describeTexture(tex.image, tex.mask, options);
+      tAll += d.seconds();
+    }
+    std::printf(
+        "observed query, ms each: prepare %.2f, texture key %.2f, structure %.2f, whole key %.2f\n",
+        1e3 * tPrep / n, 1e3 * tKey / n, 1e3 * tStruct / n, 1e3 * tAll / n);
+  }
+  if (profileOnly) return 0;
   ps::Timer t;
   ps::ExemplarBank bank = cache.empty() ? ps::ExemplarBank::build(lib, options)
-                                         : ps::ExemplarBank::loadOrBuild(lib, options, cache);
-  std::printf("bank: %d graphs, %d exemplars x %d floats, built in %.2f s (%d threads)\n", lib.size(), bank.rows(),
-              bank.dim(), t.seconds(), ps::maxThreads());
-  std::printf("%-8s %12s %14s %10s %10s\n", "index", "build ms", "query us", "top-1 %", "category %");
-  for (ps::KnnIndexType type : {ps::KnnIndexType::Linear, ps::KnnIndexType::KdTree, ps::KnnIndexType::KMeans}) {
+                                        : ps::ExemplarBank::loadOrBuild(lib, options, cache);
+  std::printf("bank: %d graphs, %d exemplars x %d floats, built in %.2f s (%d threads)\n",
+              lib.size(), bank.rows(), bank.dim(), t.seconds(), ps::maxThreads());
+  std::printf("%-8s %12s %14s %10s %10s\n", "index", "build ms", "query us", "top-1 %",
+              "category %");
+  for (ps::KnnIndexType type :
+       {ps::KnnIndexType::Linear, ps::KnnIndexType::KdTree, ps::KnnIndexType::KMeans}) {
     if (linearOnly && type != ps::KnnIndexType::Linear) continue;
     ps::Timer tb;
     bank.rebuildIndex(type);
@@ -67,14 +124,26 @@ int main(int argc, char** argv) {
     std::printf("%-8s %12.2f %14.1f %10.1f %10.1f\n", ps::knnIndexTypeName(type), buildMs, queryUs,
                 100 * r.top1Accuracy(), 100 * r.categoryAccuracy());
     if (type == ps::KnnIndexType::Linear) std::printf("%s", r.table().c_str());
+    if (type == ps::KnnIndexType::Linear && sweepK) {
+      for (int k : {5, 11, 21, 41})
+        for (int cf : {0, 1}) {
+          ps::HeldOutOptions h = held;
+          h.k = k;
+          h.categoryFirst = cf;
+          const ps::SelectionReport q = ps::evaluateSelection(bank, lib, options, h);
+          std::printf("sweep k %d categoryFirst %d: %.1f / %.1f\n", k, cf, 100 * q.top1Accuracy(),
+                      100 * q.categoryAccuracy());
+        }
+    }
   }
+  if (!observedProtocol) return 0;
   // the observed protocol (what the pipeline meets), exhaustive search
   bank.rebuildIndex(ps::KnnIndexType::Linear);
   ps::HeldOutOptions obs = held;
   obs.observed = true;
   const ps::SelectionReport r = ps::evaluateSelection(bank, lib, options, obs);
   std::printf("observed protocol (linear): top-1 %.1f%%, category %.1f%%, %.2f ms per query\n%s",
-              100 * r.top1Accuracy(), 100 * r.categoryAccuracy(), 1e3 * r.querySeconds / std::max(1, r.total),
-              r.table().c_str());
+              100 * r.top1Accuracy(), 100 * r.categoryAccuracy(),
+              1e3 * r.querySeconds / std::max(1, r.total), r.table().c_str());
   return 0;
 }

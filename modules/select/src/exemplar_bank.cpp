@@ -22,9 +22,11 @@ namespace ps {
 
 namespace {
 constexpr char kMagic[8] = {'P', 'S', 'E', 'X', 'B', 'A', 'N', 'K'};
-constexpr uint32_t kVersion = 3;
+constexpr uint32_t kVersion = 4;
 
-uint64_t nameHash(const std::string& s) { return Hasher().add(std::string_view(s)).digest(); }
+uint64_t nameHash(const std::string& s) {
+  return Hasher().add(std::string_view(s)).digest();
+}
 
 /// Bilinear, periodic sample of a CV_32FC3 map at texture coordinate t (row 0 = top).
 cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
@@ -52,17 +54,25 @@ cv::Mat prefilter(const cv::Mat& map, int texels) {
 
 bool ExemplarBankOptions::IsValid(std::string* error) const {
   std::string keyError;
-  if (drawsPerGraph < 1 || mapSize < 16 || (mapSize & (mapSize - 1)) || renderSize < 16 || uvScales.empty() ||
-      !(spread >= 0 && spread <= 1) || !key.IsValid(&keyError)) {
-    if (error) *error = "drawsPerGraph >= 1, mapSize a power of two >= 16, renderSize >= 16, uvScales non-empty, spread in [0, 1]" + keyError;
+  if (drawsPerGraph < 1 || mapSize < 16 || (mapSize & (mapSize - 1)) || renderSize < 16 ||
+      uvScales.empty() || !(spread >= 0 && spread <= 1) || !key.IsValid(&keyError)) {
+    if (error)
+      *error =
+          "drawsPerGraph >= 1, mapSize a power of two >= 16, renderSize >= 16, uvScales non-empty, "
+          "spread in [0, 1]" +
+          keyError;
     return false;
   }
   const ObservationRanges& r = observation;
-  if (observedPerDraw < 0 || r.width < 16 || r.height < 16 || !(r.maxTiltDeg >= 0 && r.maxTiltDeg <= 75) ||
-      !(r.minRepeats > 0 && r.maxRepeats >= r.minRepeats) || !(r.maxGradient >= 0) || !(r.maxBlurSigma >= 0) ||
-      !(r.maxNoise >= 0) || !(shadingSigma >= 0)) {
-    if (error) *error = "observedPerDraw >= 0, observation image >= 16 px, tilt in [0, 75], repeats 0 < min <= max, "
-                        "gradient, blur, noise and shadingSigma >= 0";
+  if (observedPerDraw < 0 || r.width < 16 || r.height < 16 ||
+      !(r.maxTiltDeg >= 0 && r.maxTiltDeg <= 75) ||
+      !(r.minRepeats > 0 && r.maxRepeats >= r.minRepeats) || !(r.maxGradient >= 0) ||
+      !(r.maxBlurSigma >= 0) || !(r.maxNoise >= 0) || !(shadingSigma >= 0)) {
+    if (error)
+      *error =
+          "observedPerDraw >= 0, observation image >= 16 px, tilt in [0, 75], repeats 0 < min <= "
+          "max, "
+          "gradient, blur, noise and shadingSigma >= 0";
     return false;
   }
   for (float s : uvScales)
@@ -78,18 +88,37 @@ uint64_t ExemplarBankOptions::hash() const {
   h.add(drawsPerGraph).add(spread).add(mapSize).add(renderSize).add(seed);
   for (float s : uvScales) h.add(s);
   const auto& d = key.descriptor;
-  h.add(d.numScales).add(d.numOrientations).add(d.centerFrequency).add(d.sigma).add(d.kernelRadiusSigmas)
-      .add(d.boundaryPower).add(d.epsilon);
+  h.add(d.numScales)
+      .add(d.numOrientations)
+      .add(d.centerFrequency)
+      .add(d.sigma)
+      .add(d.kernelRadiusSigmas)
+      .add(d.boundaryPower)
+      .add(d.epsilon);
   h.add(discriminantProjection).add(statisticsWeight);
   const ObservationRanges& r = observation;
-  h.add(observedPerDraw).add(r.width).add(r.height).add(r.maxTiltDeg).add(r.minRepeats).add(r.maxRepeats)
-      .add(r.maxGradient).add(r.maxBlurSigma).add(r.maxNoise).add(r.oddMaskProbability).add(shadingSigma);
+  h.add(observedPerDraw)
+      .add(r.width)
+      .add(r.height)
+      .add(r.maxTiltDeg)
+      .add(r.minRepeats)
+      .add(r.maxRepeats)
+      .add(r.maxGradient)
+      .add(r.maxBlurSigma)
+      .add(r.maxNoise)
+      .add(r.oddMaskProbability)
+      .add(shadingSigma);
   h.add(key.colorWeight).add(key.contrastWeight).add(key.anisotropyWeight).add(key.logFloor);
+  h.add(structureWeight).add(structure.maxCorrelationSize).add(structure.logFloor);
+  for (float v : structure.gradientSigmas) h.add(v);
+  h.add(-1.0f);
+  for (float v : structure.ringEdges) h.add(v);
   return h.digest();
 }
 
 int bankKeyLength(const ExemplarBankOptions& options) {
-  return keyLength(options.key) + (options.statisticsWeight > 0 ? 12 : 0);
+  return keyLength(options.key) + (options.statisticsWeight > 0 ? 12 : 0) +
+         (options.structureWeight > 0 ? structureKeyLength(options.structure) : 0);
 }
 
 namespace {
@@ -121,7 +150,9 @@ void logContrastPercentiles(const cv::Mat& image, const cv::Mat& mask, std::vect
 }
 }  // namespace
 
-std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, const ExemplarBankOptions& options) {
+namespace {
+std::vector<float> describeTextureStatistics(const cv::Mat& image, const cv::Mat& mask,
+                                             const ExemplarBankOptions& options) {
   std::vector<float> key = computeTextureKey(image, mask, options.key);
   if (options.statisticsWeight <= 0) return key;
   std::vector<float> st;
@@ -130,7 +161,8 @@ std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, co
   cv::Mat half, m01, cover;
   mask.convertTo(m01, CV_32F, 1.0 / 255.0);
   cv::threshold(m01, m01, 0, 1, cv::THRESH_BINARY);
-  cv::resize(image, half, cv::Size(std::max(1, image.cols / 2), std::max(1, image.rows / 2)), 0, 0, cv::INTER_AREA);
+  cv::resize(image, half, cv::Size(std::max(1, image.cols / 2), std::max(1, image.rows / 2)), 0, 0,
+             cv::INTER_AREA);
   cv::resize(m01, cover, half.size(), 0, 0, cv::INTER_AREA);
   cv::Mat halfMask = cover > 0.99f;
   if (cv::countNonZero(halfMask) < 4) halfMask = cover > 0;
@@ -152,10 +184,21 @@ std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, co
   for (float v : st) key.push_back(w * v);
   return key;
 }
+}  // namespace
+
+std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask,
+                                   const ExemplarBankOptions& options) {
+  std::vector<float> key = describeTextureStatistics(image, mask, options);
+  if (options.structureWeight <= 0) return key;
+  for (float v : computeStructureKey(image, mask, options.structure))
+    key.push_back(options.structureWeight * v);
+  return key;
+}
 
 cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, float rotationDeg,
                              const cv::Vec3f& lightColor) {
-  PS_Check(!maps.albedo.empty() && !maps.normal.empty(), "renderCanonicalPatch needs albedo and normal maps");
+  PS_Check(!maps.albedo.empty() && !maps.normal.empty(),
+           "renderCanonicalPatch needs albedo and normal maps");
   const int ss = 2 * size;
   const cv::Mat albedo = prefilter(maps.albedo, static_cast<int>(std::ceil(ss / repeats)));
   const cv::Mat normal = prefilter(maps.normal, static_cast<int>(std::ceil(ss / repeats)));
@@ -177,7 +220,8 @@ cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, 
         const float len = n.norm();
         n = len > 1e-6f ? Vec3f(n / len) : N;
         const float shade = 0.35f + 0.65f * std::max(0.0f, n.dot(light));
-        out[x] = cv::Vec3f(a[0] * lightColor[0], a[1] * lightColor[1], a[2] * lightColor[2]) * shade;
+        out[x] =
+            cv::Vec3f(a[0] * lightColor[0], a[1] * lightColor[1], a[2] * lightColor[2]) * shade;
       }
     }
   });
@@ -210,34 +254,45 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   parallelFor(0, graphs, [&](int64_t g) {
     MaterialGraph graph = library.create(bank.graphNames_[g]);
     for (int d = 0; d < options.drawsPerGraph; ++d) {
-      const uint64_t seed = mix64(options.seed ^ nameHash(bank.graphNames_[g])) + static_cast<uint64_t>(d);
+      const uint64_t seed =
+          mix64(options.seed ^ nameHash(bank.graphNames_[g])) + static_cast<uint64_t>(d);
       graph.setValues(d == 0 ? graph.defaultValues() : graph.randomValues(seed, options.spread));
-      const MaterialMaps maps = graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+      const MaterialMaps maps =
+          graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       Rng rng(seed, 17);
       for (int i = 0; i < perDraw; ++i) {
         const size_t row = static_cast<size_t>(g) * perGraph + static_cast<size_t>(d) * perDraw + i;
         std::vector<float> key;
         if (i < scales) {
           const float rotation = rng.uniform(0.f, 360.f);
-          const cv::Mat patch = renderCanonicalPatch(maps, options.renderSize, options.uvScales[i], rotation);
-          key = describeTexture(removeSmoothShading(patch, fullMask, options.shadingSigma), fullMask, options);
-          bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, options.uvScales[i], rotation, -1.f};
+          const cv::Mat patch =
+              renderCanonicalPatch(maps, options.renderSize, options.uvScales[i], rotation);
+          key = describeTexture(removeSmoothShading(patch, fullMask, options.shadingSigma),
+                                fullMask, options);
+          bank.exemplars_[row] =
+              Exemplar{static_cast<int>(g), d, options.uvScales[i], rotation, -1.f};
         } else {
           const ObservedPlaneParams p = randomObservation(options.observation, rng);
           const ObservedPlane obs = renderObservedPlane(maps, p);
-          const PartTexture t = preparePartTexture(obs.image, obs.mask, obs.uv, cv::Mat(), options.shadingSigma, query);
+          const PartTexture t = preparePartTexture(obs.image, obs.mask, obs.uv, cv::Mat(),
+                                                   options.shadingSigma, query);
           key = describeTexture(t.image, t.mask, options);
-          bank.exemplars_[row] = Exemplar{static_cast<int>(g), d, p.repeats, p.rotationDeg, p.tiltDeg};
+          bank.exemplars_[row] =
+              Exemplar{static_cast<int>(g), d, p.repeats, p.rotationDeg, p.tiltDeg};
         }
         std::copy(key.begin(), key.end(), bank.keys_.begin() + row * bank.dim_);
       }
     }
   });
   if (options.discriminantProjection) bank.learnProjection();
-  bank.index_ = std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
+  bank.index_ =
+      std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
   bank.buildSeconds_ = timer.seconds();
-  spdlog::info("exemplar bank: {} graphs x {} draws x ({} scales + {} observed) = {} exemplars of {} floats in {:.1f}s",
-               graphs, options.drawsPerGraph, scales, options.observedPerDraw, bank.rows(), bank.dim_, bank.buildSeconds_);
+  spdlog::info(
+      "exemplar bank: {} graphs x {} draws x ({} scales + {} observed) = {} exemplars of {} floats "
+      "in {:.1f}s",
+      graphs, options.drawsPerGraph, scales, options.observedPerDraw, bank.rows(), bank.dim_,
+      bank.buildSeconds_);
   return bank;
 }
 
@@ -251,7 +306,16 @@ void ExemplarBank::learnProjection() {
   Eigen::MatrixXd X(n, d);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < d; ++j) X(i, j) = keys_[static_cast<size_t>(i) * d + j];
-  const Eigen::RowVectorXd mean = X.colwise().mean();
+  // standardize every entry over the bank first (folded into the projection below): the
+  // shrinkage of the within-graph scatter then treats entries of different units alike
+  Eigen::RowVectorXd mean = X.colwise().mean();
+  Eigen::VectorXd invStd(d);
+  for (int j = 0; j < d; ++j) {
+    const double sd = std::sqrt((X.col(j).array() - mean(j)).square().mean());
+    invStd(j) = sd > 1e-9 ? 1.0 / sd : 0.0;
+    X.col(j) = (X.col(j).array() - mean(j)) * invStd(j);
+  }
+  mean.setZero();
   Eigen::MatrixXd classMean = Eigen::MatrixXd::Zero(classes, d);
   std::vector<int> count(classes, 0);
   for (int i = 0; i < n; ++i) {
@@ -286,11 +350,14 @@ void ExemplarBank::learnProjection() {
   for (int c = 0; c < k; ++c) {
     const int src = d - 1 - c;
     const double w = std::sqrt(std::max(0.0, solver.eigenvalues()[src])) * scaleRef;
-    for (int r = 0; r < d; ++r) projection_[static_cast<size_t>(r) * k + c] = static_cast<float>(solver.eigenvectors()(r, src) * w);
+    for (int r = 0; r < d; ++r)
+      projection_[static_cast<size_t>(r) * k + c] =
+          static_cast<float>(solver.eigenvectors()(r, src) * w * invStd(r));
   }
   std::vector<float> projected(static_cast<size_t>(n) * k);
   for (int i = 0; i < n; ++i) {
-    const std::vector<float> raw(keys_.begin() + static_cast<size_t>(i) * d, keys_.begin() + static_cast<size_t>(i + 1) * d);
+    const std::vector<float> raw(keys_.begin() + static_cast<size_t>(i) * d,
+                                 keys_.begin() + static_cast<size_t>(i + 1) * d);
     const std::vector<float> p = project(raw);
     std::copy(p.begin(), p.end(), projected.begin() + static_cast<size_t>(i) * k);
   }
@@ -302,14 +369,17 @@ std::vector<float> ExemplarBank::project(const std::vector<float>& key) const {
   if (projection_.empty()) return key;
   std::vector<float> out(projectedDim_, 0.f);
   for (int r = 0; r < dim_; ++r)
-    for (int c = 0; c < projectedDim_; ++c) out[c] += key[r] * projection_[static_cast<size_t>(r) * projectedDim_ + c];
+    for (int c = 0; c < projectedDim_; ++c)
+      out[c] += key[r] * projection_[static_cast<size_t>(r) * projectedDim_ + c];
   return out;
 }
 
-std::string ExemplarBank::cacheFileName(const GraphLibrary& library, const ExemplarBankOptions& options) {
+std::string ExemplarBank::cacheFileName(const GraphLibrary& library,
+                                        const ExemplarBankOptions& options) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "exemplars-v%u-%016llx-%016llx.bin", kVersion,
-                static_cast<unsigned long long>(library.contentHash()), static_cast<unsigned long long>(options.hash()));
+                static_cast<unsigned long long>(library.contentHash()),
+                static_cast<unsigned long long>(options.hash()));
   return buf;
 }
 
@@ -357,9 +427,11 @@ void ExemplarBank::save(const std::filesystem::path& file) const {
       put(os, e.tiltDeg);
     }
     put(os, static_cast<uint32_t>(indexDim()));
-    os.write(reinterpret_cast<const char*>(keys_.data()), static_cast<std::streamsize>(keys_.size() * sizeof(float)));
+    os.write(reinterpret_cast<const char*>(keys_.data()),
+             static_cast<std::streamsize>(keys_.size() * sizeof(float)));
     put(os, static_cast<uint32_t>(projectedDim_));
-    os.write(reinterpret_cast<const char*>(projection_.data()), static_cast<std::streamsize>(projection_.size() * sizeof(float)));
+    os.write(reinterpret_cast<const char*>(projection_.data()),
+             static_cast<std::streamsize>(projection_.size() * sizeof(float)));
     put(os, buildSeconds_);
     PS_Check(os.good(), "cannot write the exemplar bank " << file);
   });
@@ -375,27 +447,31 @@ ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libr
   char magic[8];
   uint32_t version = 0, graphs = 0, rows = 0, dim = 0;
   uint64_t lh = 0, oh = 0;
-  if (!is.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0 || !get(is, version) || version != kVersion ||
-      !get(is, lh) || lh != libraryHash || !get(is, oh) || oh != options.hash() || !get(is, graphs))
+  if (!is.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0 || !get(is, version) ||
+      version != kVersion || !get(is, lh) || lh != libraryHash || !get(is, oh) ||
+      oh != options.hash() || !get(is, graphs))
     return bank;
   std::vector<std::string> names(graphs), cats(graphs);
   for (uint32_t i = 0; i < graphs; ++i)
     if (!getString(is, names[i]) || !getString(is, cats[i])) return bank;
-  if (!get(is, rows) || !get(is, dim) || dim != static_cast<uint32_t>(bankKeyLength(options)) || rows > (1u << 24))
+  if (!get(is, rows) || !get(is, dim) || dim != static_cast<uint32_t>(bankKeyLength(options)) ||
+      rows > (1u << 24))
     return bank;
   std::vector<Exemplar> ex(rows);
   for (auto& e : ex)
-    if (!get(is, e.graph) || !get(is, e.draw) || !get(is, e.uvScale) || !get(is, e.rotationDeg) || !get(is, e.tiltDeg) || e.graph < 0 ||
-        e.graph >= static_cast<int>(graphs))
+    if (!get(is, e.graph) || !get(is, e.draw) || !get(is, e.uvScale) || !get(is, e.rotationDeg) ||
+        !get(is, e.tiltDeg) || e.graph < 0 || e.graph >= static_cast<int>(graphs))
       return bank;
   uint32_t indexDim = 0, projectedDim = 0;
   if (!get(is, indexDim) || indexDim == 0 || indexDim > 4096) return bank;
   std::vector<float> keys(static_cast<size_t>(rows) * indexDim);
-  if (!is.read(reinterpret_cast<char*>(keys.data()), static_cast<std::streamsize>(keys.size() * sizeof(float))))
+  if (!is.read(reinterpret_cast<char*>(keys.data()),
+               static_cast<std::streamsize>(keys.size() * sizeof(float))))
     return bank;
   if (!get(is, projectedDim) || projectedDim > 4096) return bank;
   std::vector<float> projection(static_cast<size_t>(dim) * projectedDim);
-  if (!is.read(reinterpret_cast<char*>(projection.data()), static_cast<std::streamsize>(projection.size() * sizeof(float))))
+  if (!is.read(reinterpret_cast<char*>(projection.data()),
+               static_cast<std::streamsize>(projection.size() * sizeof(float))))
     return bank;
   if ((projectedDim ? projectedDim : dim) != indexDim) return bank;
   double seconds = 0;
@@ -415,25 +491,30 @@ ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libr
   std::error_code ec;
   if (std::filesystem::exists(indexFile, ec)) {
     try {
-      bank.index_ = std::make_unique<KnnIndex>(
-          KnnIndex::load(indexFile.string(), bank.keys_, bank.rows(), bank.indexDim(), options.indexType));
+      bank.index_ = std::make_unique<KnnIndex>(KnnIndex::load(
+          indexFile.string(), bank.keys_, bank.rows(), bank.indexDim(), options.indexType));
     } catch (const std::exception& e) {
-      spdlog::warn("exemplar bank index {} unreadable ({}); rebuilding it", indexFile.string(), e.what());
+      spdlog::warn("exemplar bank index {} unreadable ({}); rebuilding it", indexFile.string(),
+                   e.what());
     }
   }
-  if (!bank.index_) bank.index_ = std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
+  if (!bank.index_)
+    bank.index_ =
+        std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
   return bank;
 }
 
-ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library, const ExemplarBankOptions& options,
-                                       const std::filesystem::path& cacheFolder, bool* loadedFromCache) {
+ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library,
+                                       const ExemplarBankOptions& options,
+                                       const std::filesystem::path& cacheFolder,
+                                       bool* loadedFromCache) {
   const std::filesystem::path file = cacheFolder / cacheFileName(library, options);
   Timer timer;
   ExemplarBank bank = load(file, library.contentHash(), options);
   if (bank.rows() > 0) {
     if (loadedFromCache) *loadedFromCache = true;
-    spdlog::info("exemplar bank: loaded {} exemplars from {} in {:.1f} ms", bank.rows(), file.string(),
-                 timer.milliseconds());
+    spdlog::info("exemplar bank: loaded {} exemplars from {} in {:.1f} ms", bank.rows(),
+                 file.string(), timer.milliseconds());
     return bank;
   }
   if (loadedFromCache) *loadedFromCache = false;
@@ -489,7 +570,8 @@ GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool cate
 }
 
 int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240) {
-  return static_cast<int>(std::lround(pixelsAt320x240 * (static_cast<double>(imageWidth) * imageHeight) / (320.0 * 240.0)));
+  return static_cast<int>(std::lround(
+      pixelsAt320x240 * (static_cast<double>(imageWidth) * imageHeight) / (320.0 * 240.0)));
 }
 
 }  // namespace ps

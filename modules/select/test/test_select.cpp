@@ -96,31 +96,37 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
 
 TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
   // Issue 5's protocol (canonical patches, random UV rotation and scale, random light color and
-  // level): top-1 >= 60%, category >= 85% asked. Measured 58.6% / 65.4% with the kd-tree index
-  // (59.7% / 67.1% exhaustive; before the observed exemplars 59.0% / 67.1% exhaustive) (295 draws,
-  // so about +-3%); the assertions hold the level reached less about three standard deviations.
+  // level; 59 graphs x 5 draws, seed 2024): top-1 >= 60%, category >= 85% asked. Measured with
+  // the structure statistics and 6 canonical scales: 77.6% / 84.1% exhaustive, 76.9% / 83.7%
+  // with the kd-tree index (before: 59.7% / 67.1%); on other held-out seeds (777, used for
+  // development) 75.9% / 83.1%. 295 draws: about +-2.5% (top-1) and +-2.1% (category) one
+  // standard deviation. Top-1 is held at the issue's level with margin; category is held at
+  // 80%, below the issue's 85%: seven graphs (paint_eggshell, _glossy, _matte_wall, paper_white,
+  // plastic_glossy, _laminate, _textured) are the same graph (fbm times a colour) with other fbm
+  // scales, which a random UV scale and light colour make indistinguishable.
   const ExemplarBank& b = bank();
   const ExemplarBankOptions o;
   ASSERT_EQ(b.rows(), library().size() * o.drawsPerGraph *
                           (static_cast<int>(o.uvScales.size()) + o.observedPerDraw));
   const SelectionReport r = evaluateSelection(b, library(), o);
   std::printf("%s", r.table().c_str());
-  EXPECT_GE(r.top1Accuracy(), 0.53);
-  EXPECT_GE(r.categoryAccuracy(), 0.60);
+  EXPECT_GE(r.top1Accuracy(), 0.70);
+  EXPECT_GE(r.categoryAccuracy(), 0.80);
 }
 
 TEST(Select_Bank, observed_parts_select_their_graph_and_category) {
   // What the pipeline meets: each held-out draw on a plane in perspective (tilt up to 65 deg),
   // with a shading gradient, blur, noise and often an odd mask, queried with its UVs through
   // selectForPart. With the canonical-only bank of before, this protocol gave 12.9% / 21.0%
-  // (exhaustive search); now 34.9% / 41.0% exhaustive, 37.3% / 42.0% with the kd-tree index
-  // (chance 1.7% / 6%). Assertions: the level reached less about three standard deviations.
+  // (exhaustive search); with observed exemplars 34.9% / 41.0%; with the structure statistics
+  // 39.7% / 47.5% exhaustive, 37.6% / 45.8% kd-tree (chance 1.7% / 6%). Assertions: the level
+  // reached less about two to three standard deviations.
   HeldOutOptions h;
   h.observed = true;
   const SelectionReport r = evaluateSelection(bank(), library(), ExemplarBankOptions{}, h);
   std::printf("observed protocol\n%s", r.table().c_str());
-  EXPECT_GE(r.top1Accuracy(), 0.28);
-  EXPECT_GE(r.categoryAccuracy(), 0.34);
+  EXPECT_GE(r.top1Accuracy(), 0.33);
+  EXPECT_GE(r.categoryAccuracy(), 0.40);
 }
 
 TEST(Select_Part, smooth_shading_is_removed_and_texture_kept) {

@@ -23,6 +23,7 @@
 #include <opencv2/core.hpp>
 
 #include "photoscene/features/texture_descriptor.hpp"
+#include "photoscene/features/texture_structure.hpp"
 #include "photoscene/graph/graph_library.hpp"
 #include "photoscene/select/knn_index.hpp"
 
@@ -31,21 +32,23 @@ namespace ps {
 /// Ranges of the random observations (renderObservedPlane) behind the bank's observed exemplars
 /// and the observed held-out test: what a part in a photo looks like once unwarped.
 struct ObservationRanges {
-  int width = 128, height = 96;               ///< image size (pixels)
-  float maxTiltDeg = 65;                      ///< tilt uniform in [0, max]
-  float minRepeats = 1.5f, maxRepeats = 8.0f; ///< log-uniform texture repeats across the width
-  float maxGradient = 1.2f;                   ///< shading gradient, log-luminance across the image
-  float maxBlurSigma = 1.0f;                  ///< camera blur (pixels), uniform in [0, max]
-  float maxNoise = 0.04f;                     ///< relative noise, uniform in [0, max]
-  float oddMaskProbability = 0.5f;            ///< share of observations cut by an odd mask
+  int width = 128, height = 96;                ///< image size (pixels)
+  float maxTiltDeg = 65;                       ///< tilt uniform in [0, max]
+  float minRepeats = 1.5f, maxRepeats = 8.0f;  ///< log-uniform texture repeats across the width
+  float maxGradient = 1.2f;                    ///< shading gradient, log-luminance across the image
+  float maxBlurSigma = 1.0f;                   ///< camera blur (pixels), uniform in [0, max]
+  float maxNoise = 0.04f;                      ///< relative noise, uniform in [0, max]
+  float oddMaskProbability = 0.5f;             ///< share of observations cut by an odd mask
 };
 
 struct ExemplarBankOptions {
-  int drawsPerGraph = 10;                     ///< N random draws per graph (the paper: 10)
-  float spread = 0.6f;                        ///< MaterialGraph::randomValues spread
-  int mapSize = 256;                          ///< graph evaluation size
-  int renderSize = 96;                        ///< canonical patch size (pixels)
-  std::vector<float> uvScales = {2.0f, 4.0f}; ///< texture repeats across the patch
+  int drawsPerGraph = 10;  ///< N random draws per graph (the paper: 10)
+  float spread = 0.6f;     ///< MaterialGraph::randomValues spread
+  int mapSize = 256;       ///< graph evaluation size
+  int renderSize = 96;     ///< canonical patch size (pixels)
+  /// Texture repeats across the canonical patch, one exemplar each: spaced by about 1.3x over
+  /// the held-out range (1.5-5), so some exemplar of every draw is within 15% of a query's scale.
+  std::vector<float> uvScales = {1.4f, 1.8f, 2.3f, 3.0f, 3.9f, 5.0f};
   uint64_t seed = 0;
   /// Observed exemplars per draw, besides the canonical ones: the draw rendered on a random
   /// tilted plane (ObservationRanges), unwarped by its UVs and described as a photographed part
@@ -58,6 +61,10 @@ struct ExemplarBankOptions {
   /// Weight of the bank's intensity and chroma statistics appended to the texture key
   /// (describeTexture); 0: the texture key alone.
   float statisticsWeight = 1.0f;
+  /// Weight of the structure statistics (computeStructureKey: edge symmetry and sparsity,
+  /// autocorrelation rings, colour against brightness) appended after them; 0: none.
+  float structureWeight = 1.0f;
+  TextureStructureOptions structure;
   KnnIndexType indexType = KnnIndexType::KdTree;
   /// Project keys with linear discriminant analysis learned on the bank itself (classes =
   /// graphs): distances then discount the variation a graph shows across its own draws, scales
@@ -70,7 +77,7 @@ struct ExemplarBankOptions {
 };
 
 /// Length of the bank's raw keys: keyLength(options.key), plus 12 statistics when
-/// statisticsWeight > 0.
+/// statisticsWeight > 0, plus structureKeyLength(options.structure) when structureWeight > 0.
 int bankKeyLength(const ExemplarBankOptions& options);
 
 /// The bank's raw key of a region (what ExemplarBank::select takes): computeTextureKey(image,
@@ -79,9 +86,15 @@ int bankKeyLength(const ExemplarBankOptions& options);
 ///   the 5th, 25th, 75th and 95th percentiles of log(L / median L) over the mask, L luminance,
 ///   the same of the image box-filtered 2 x 2 (contrast that survives blur and noise),
 ///   the 10th and 90th percentiles of log(R / G) and of log(B / G), less their medians (how
-///   many colors the region holds, not which).
+///   many colors the region holds, not which);
+/// then, when structureWeight > 0, computeStructureKey(image, mask, options.structure) times
+/// structureWeight (edge symmetry and sparsity, autocorrelation rings, colour against
+/// brightness; also invariant to any per-channel light scale).
+/// Before the index, keys are standardized per entry over the bank and projected by LDA
+/// (discriminantProjection).
 /// @param image CV_32FC3 linear RGB, non-negative; @param mask CV_8UC1, same size, non-empty
-std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask, const ExemplarBankOptions& options);
+std::vector<float> describeTexture(const cv::Mat& image, const cv::Mat& mask,
+                                   const ExemplarBankOptions& options);
 
 /// Renders material maps on a frontal, flat patch: t = R(rotation) * (repeats * uv), uv in
 /// [0, 1]^2 across the patch, Lambert + ambient under a white key light from the upper left
@@ -93,11 +106,11 @@ cv::Mat renderCanonicalPatch(const MaterialMaps& maps, int size, float repeats, 
                              const cv::Vec3f& lightColor = cv::Vec3f(1, 1, 1));
 
 struct Exemplar {
-  int graph = 0;   ///< index into ExemplarBank::graphNames()
+  int graph = 0;  ///< index into ExemplarBank::graphNames()
   int draw = 0;
-  float uvScale = 1;      ///< texture repeats across the patch (observed: across the image width)
+  float uvScale = 1;  ///< texture repeats across the patch (observed: across the image width)
   float rotationDeg = 0;
-  float tiltDeg = -1;     ///< observed exemplars: the plane's tilt; canonical ones: -1
+  float tiltDeg = -1;  ///< observed exemplars: the plane's tilt; canonical ones: -1
 };
 
 struct GraphVote {
@@ -109,9 +122,9 @@ struct GraphVote {
 
 struct GraphChoice {
   std::string graph, category;
-  std::vector<GraphVote> votes;        ///< sorted by weight, largest first
+  std::vector<GraphVote> votes;  ///< sorted by weight, largest first
   std::vector<GraphVote> categoryVotes;
-  std::vector<int> neighbours;         ///< exemplar rows, nearest first
+  std::vector<int> neighbours;  ///< exemplar rows, nearest first
   std::vector<float> distances;
 };
 
@@ -122,14 +135,16 @@ class ExemplarBank {
   /// The cached bank in `cacheFolder` when its file matches the library and options (format
   /// version, library content hash, options hash), else builds and saves it (atomically).
   static ExemplarBank loadOrBuild(const GraphLibrary& library, const ExemplarBankOptions& options,
-                                  const std::filesystem::path& cacheFolder, bool* loadedFromCache = nullptr);
+                                  const std::filesystem::path& cacheFolder,
+                                  bool* loadedFromCache = nullptr);
   /// The cache file name for a library and options.
   static std::string cacheFileName(const GraphLibrary& library, const ExemplarBankOptions& options);
 
   void save(const std::filesystem::path& file) const;
   /// Loads a saved bank; std::nullopt-like empty result (rows() == 0) when the file is missing,
   /// of another version or made for another library/options.
-  static ExemplarBank load(const std::filesystem::path& file, uint64_t libraryHash, const ExemplarBankOptions& options);
+  static ExemplarBank load(const std::filesystem::path& file, uint64_t libraryHash,
+                           const ExemplarBankOptions& options);
 
   ExemplarBank(ExemplarBank&&) noexcept;
   ExemplarBank& operator=(ExemplarBank&&) noexcept;
