@@ -8,8 +8,14 @@
 // through them. Bounce rules follow Cycles (max / diffuse / glossy limits; a path that reaches
 // a limit still collects emission at its next hit), Russian roulette after `rouletteDepth`.
 //
-// Determinism: sample s of pixel (x, y) draws from Rng(seed).split(y * width + x), so a fixed
-// seed gives the same image on any thread count.
+// Sampling: render() draws every random number of sample s of pixel (x, y) from a
+// SobolSampler(seed, y * width + x) (Owen-scrambled Sobol, sampler.hpp): pixel position, light
+// pick, light point, BSDF lobe and direction and roulette each have their own dimension per
+// bounce, so each is stratified over the pixel's samples. Rectangular emitters (and a window
+// that is one rectangle) are sampled uniformly in solid angle (spherical_rectangle.hpp), other
+// emitters by area; environment images by luminance (bounded against their bilinear lookup).
+// The state is the pixel and the sample index only: a fixed seed gives the same image on any
+// thread count.
 //
 //   ps::PathTracer tracer(scene, materials);
 //   ps::RenderOptions opt;  opt.spp = 64;
@@ -48,15 +54,15 @@ struct LightSelection {
 enum class PixelFilter { Box, BlackmanHarris };
 
 struct RenderOptions {
-  int spp = 64;                 ///< samples per pixel
-  int maxBounces = 12;          ///< total scattering events (Cycles' max bounces)
-  int maxDiffuseBounces = 6;    ///< Cycles' diffuse bounce limit
-  int maxGlossyBounces = 4;     ///< Cycles' glossy bounce limit
-  int rouletteDepth = 3;        ///< Russian roulette from this bounce on (0 = from the first)
+  int spp = 64;               ///< samples per pixel
+  int maxBounces = 12;        ///< total scattering events (Cycles' max bounces)
+  int maxDiffuseBounces = 6;  ///< Cycles' diffuse bounce limit
+  int maxGlossyBounces = 4;   ///< Cycles' glossy bounce limit
+  int rouletteDepth = 3;      ///< Russian roulette from this bounce on (0 = from the first)
   uint64_t seed = 0;
   bool nextEventEstimation = true;  ///< false: BSDF sampling only (for tests)
   PixelFilter filter = PixelFilter::BlackmanHarris;
-  float filterWidth = 1.5f;     ///< full width in pixels (Cycles' default 1.5)
+  float filterWidth = 1.5f;  ///< full width in pixels (Cycles' default 1.5)
   LightSelection lights;
   /// Burley (Disney) diffuse instead of Lambert, as Blender's Principled BSDF v1: not the
   /// contract's model; only to measure how much of a difference to Cycles that explains.
@@ -68,7 +74,7 @@ struct RenderOptions {
 
 struct RenderStats {
   double seconds = 0;
-  uint64_t rays = 0;   ///< closest-hit + shadow rays traced
+  uint64_t rays = 0;  ///< closest-hit + shadow rays traced
   uint64_t samples = 0;
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
@@ -76,9 +82,9 @@ struct RenderStats {
 /// A shading point on the mesh.
 struct SurfacePoint {
   Vec3f p = Vec3f::Zero();
-  Vec3f ng = Vec3f::Zero();   ///< unit geometric normal (winding order), not flipped
-  Vec3f ns = Vec3f::Zero();   ///< unit interpolated shading normal, on ng's side
-  Vec2f uv = Vec2f::Zero();   ///< OBJ texture coordinates
+  Vec3f ng = Vec3f::Zero();  ///< unit geometric normal (winding order), not flipped
+  Vec3f ns = Vec3f::Zero();  ///< unit interpolated shading normal, on ng's side
+  Vec2f uv = Vec2f::Zero();  ///< OBJ texture coordinates
   Vec3f dpdu = Vec3f::Zero(), dpdv = Vec3f::Zero();  ///< of the triangle (zero when degenerate)
   int triangle = -1, part = -1;
 };
@@ -91,7 +97,8 @@ class PathTracer {
   ~PathTracer();
 
   /// Renders a linear RGB image (CV_32FC3, camera.width() x camera.height()).
-  cv::Mat render(const Camera& camera, const RenderOptions& options, RenderStats* stats = nullptr) const;
+  cv::Mat render(const Camera& camera, const RenderOptions& options,
+                 RenderStats* stats = nullptr) const;
   /// One image per area emitter (unit radiance) and, last, one for the environment when the
   /// scene has one: the images the lighting least squares combines.
   std::vector<cv::Mat> renderPerLight(const Camera& camera, const RenderOptions& options,
