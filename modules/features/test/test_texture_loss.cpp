@@ -58,12 +58,16 @@ TEST(Features_TextureLoss, gradient_matches_finite_differences) {
   for (int i = 0; i < 12; ++i) pixels.push_back(edge[rng.uniformInt(edge.size())]);
   const std::vector<cv::Point> outside = samplePixels(mask, false, 4, 3);
   pixels.insert(pixels.end(), outside.begin(), outside.end());
-  const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 2e-3);
+  const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 1e-2);
   EXPECT_EQ(r.checked, 3 * 28);
-  std::printf("[   info   ] gradient check: %d entries, max rel error %.3g, max abs error %.3g\n",
-              r.checked, r.maxRelError, r.maxAbsError);
+  std::printf(
+      "[   info   ] gradient check: %d entries, max rel error %.3g, max abs error %.3g, "
+      "finite-difference noise %.3g, floor %.3g\n",
+      r.checked, r.maxRelError, r.maxAbsError, r.noise, r.floor);
   // Float filtering limits the finite differences to about 1e-3 relative; a wrong adjoint (a
-  // missing flip, a dropped term) gives errors of order 1.
+  // missing flip, a dropped term) gives errors of order 1. Step 1e-2, not 2e-3: with 2e-3 the
+  // loss's float round-off (about 8e-8 per difference) was 2 % of a small entry under clang -O1
+  // (the sanitizer build) while gcc -O3 happened to put it on a large one.
   EXPECT_LT(r.maxRelError, 2e-2) << "max abs error " << r.maxAbsError << ", floor " << r.floor;
 
   TextureLossParams p;

@@ -115,12 +115,15 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
 struct TextureLossGradientCheck {
   double maxAbsError = 0.0;  ///< max |analytic - numeric|
   double maxRelError = 0.0;  ///< max |analytic - numeric| / max(|analytic|, |numeric|, floor)
-  double floor = 0.0;        ///< the floor used: 1e-3 * max |numeric| over the checked entries
+  double floor = 0.0;        ///< the floor used: max(1e-3 * max |numeric|, 2 * noise)
+  double noise = 0.0;        ///< max |numeric(step) - numeric(2 step)|: the float loss's round-off
   int checked = 0;
 };
 /// Central differences with step `step` (linear units) on render(p)[c] for every p in pixels
 /// and c in {0, 1, 2}; analytic gradient from textureLossBackward. Pixels outside the mask must
-/// have gradient 0 and are checked as such.
+/// have gradient 0 and are checked as such. Every entry is also differenced with step 2 * step; the
+/// largest disagreement between the two measures the finite differences' own noise and sets the
+/// floor, so the check does not depend on how a compiler orders the float sums.
 TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& target,
                                                   const cv::Mat& render,
                                                   const std::vector<cv::Point>& pixels,
