@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "photoscene/core/memory.hpp"
 #include "photoscene/scene.hpp"
 
 namespace ps::app {
@@ -46,7 +47,10 @@ void addCheckCommand(CLI::App& root) {
   auto* cmd = root.add_subcommand("check", "Validate a scene.json (and every file it names) and summarize it");
   auto scenePath = std::make_shared<std::string>();
   cmd->add_option("scene", *scenePath, "scene.json")->required();
-  cmd->callback([scenePath] { printSummary(loadScene(*scenePath)); });
+  cmd->callback([scenePath] {
+    printSummary(loadScene(*scenePath));
+    fmt::print("peak memory {:.0f} MiB\n", peakMemoryMiB());
+  });
 }
 
 }  // namespace ps::app

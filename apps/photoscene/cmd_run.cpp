@@ -31,10 +31,11 @@ void runPipeline(const RunArgs& args) {
   o.threads = args.threads;
   o.baseline = parseBaseline(args.baseline);
   const PipelineResult r = ps::runPipeline(o);
-  std::printf("%-12s %9s %9s %7s\n", "stage", "seconds", "computed", "cached");
+  std::printf("%-12s %9s %9s %7s %9s\n", "stage", "seconds", "computed", "cached", "peak MiB");
   for (const StageRecord& s : r.stages)
-    std::printf("%-12s %9.2f %9d %7d\n", s.name.c_str(), s.seconds, s.computed, s.cached);
-  std::printf("%-12s %9.2f\n", "total", r.totalSeconds);
+    std::printf("%-12s %9.2f %9d %7d %9.0f\n", s.name.c_str(), s.seconds, s.computed, s.cached,
+                s.peakMemoryMiB);
+  std::printf("%-12s %9.2f %9s %7s %9.0f\n", "total", r.totalSeconds, "", "", r.peakMemoryMiB);
   for (size_t k = 0; k < r.lightNames.size(); ++k)
     std::printf("light %-14s radiance (%.3f, %.3f, %.3f)\n", r.lightNames[k].c_str(), r.lightRadiance[k].x(),
                 r.lightRadiance[k].y(), r.lightRadiance[k].z());
@@ -55,6 +56,14 @@ void addRunCommand(CLI::App& root) {
   cmd->add_option("--baseline", args->baseline, "pixel-median | shading-median: a baseline of the paper instead of the method")
       ->check(CLI::IsMember({"none", "pixel-median", "shading-median"}));
   cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
+  cmd->footer(
+      "Exit status: 0 done; 2 bad input (nothing written); 130 / 143 after SIGINT / SIGTERM (every "
+      "file whole; rerun to continue from OUT/.cache); 1 otherwise.\n"
+      "Limits: photos (and their label images) up to 24 megapixels, other images 100; OBJ up to "
+      "5,000,000 triangles, 5,000,000 vertices and 1 GiB; label images up to 65,535 regions "
+      "(16-bit).\n"
+      "Testing hooks (environment): PS_FAIL_AT_STAGE=<stage> makes that stage throw as it starts; "
+      "PS_PAUSE_AT_STAGE=<stage> makes it wait for a signal (writing $PS_PAUSE_MARKER first).");
   cmd->callback([args] { runPipeline(*args); });
 }
 

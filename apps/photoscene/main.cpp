@@ -1,7 +1,9 @@
 // photoscene: photos of a room + a coarse CAD model -> a relightable digital twin.
 //
 // Exit status (spec section 4): 0 success; 2 bad input (the message names the file, the key and
-// what was expected; nothing is written); 1 anything else, including a stage not built yet.
+// what was expected; nothing is written); 1 anything else, including a stage not built yet;
+// 128 + the signal after SIGINT (130) or SIGTERM (143): the run stopped at a check point, every
+// file written is whole, and a rerun continues from the stage cache.
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -45,9 +47,12 @@ int main(int argc, char** argv) {
   } catch (const ps::InputError& e) {
     spdlog::error("{}", e.what());
     return 2;
-  } catch (const ps::Interrupted&) {
-    spdlog::warn("interrupted: every file written so far is whole; rerun to continue from the stage cache");
-    return 130;
+  } catch (const ps::Interrupted& e) {
+    spdlog::warn(
+        "interrupted (signal {}): every file written so far is whole; rerun to continue from the "
+        "stage cache",
+        e.signal());
+    return 128 + e.signal();
   } catch (const ps::app::NotBuiltYet& e) {
     spdlog::error("{}", e.what());
     return 1;

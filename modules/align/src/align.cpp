@@ -129,11 +129,31 @@ MatchResult matchRegions(const cv::Mat& labels, const std::map<int, cv::Mat>& ge
     }
     result.regions.push_back(r);
   }
+  // the masks in one pass over the pixels (not one per region: a 16-bit label image may have
+  // 65,535 regions)
+  std::map<int, cv::Mat*> maskOf;
   for (const auto& r : result.regions) {
     if (r.part < 0) continue;
-    auto& m = result.photoMasks.try_emplace(r.part, cv::Mat::zeros(labels.size(), CV_8UC1)).first->second;
-    m.setTo(255, labels == r.label);
+    maskOf[r.label] = &result.photoMasks.try_emplace(r.part, cv::Mat::zeros(labels.size(), CV_8UC1))
+                           .first->second;
   }
+  if (!maskOf.empty())
+    for (int y = 0; y < labels.rows; ++y) {
+      const int* pl = labels.ptr<int>(y);
+      int last = 0;
+      cv::Mat* lastMask = nullptr;
+      for (int x = 0; x < labels.cols; ++x) {
+        const int l = pl[x];
+        if (l == 0) continue;
+        if (l != last || !lastMask) {
+          const auto it = maskOf.find(l);
+          last = l;
+          lastMask = it == maskOf.end() ? nullptr : it->second;
+          if (!lastMask) continue;
+        }
+        lastMask->ptr<uint8_t>(y)[x] = 255;
+      }
+    }
   return result;
 }
 

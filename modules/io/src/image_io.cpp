@@ -44,10 +44,11 @@ cv::Mat readRaw(const fs::path& path, ImageInfo* infoOut) {
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(path.string(), "", "the image has no pixels");
-  if (static_cast<int64_t>(spec.width) * spec.height > int64_t(1) << 28)
+  if (static_cast<int64_t>(spec.width) * spec.height > kMaxImagePixels)
     throw InputError(path.string(), "",
-                     "image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                         " px is larger than the supported 268 megapixels");
+                     "expected an image of at most " + std::to_string(kMaxImagePixels / 1'000'000) +
+                         " megapixels, but the header says " + std::to_string(spec.width) + "x" +
+                         std::to_string(spec.height) + " (not decoded)");
   OIIO::TypeDesc readType = OIIO::TypeDesc::FLOAT;
   int depth = CV_32F;
   if (spec.format == OIIO::TypeDesc::UINT8) {
@@ -161,7 +162,12 @@ void writeWithOiio(const fs::path& path, const cv::Mat& data, OIIO::TypeDesc fil
     PS_Check(out, "no image writer for " << path << ": " << OIIO::geterror());
     OIIO::ImageSpec spec(data.cols, data.rows, data.channels(), fileType);
     if (quality > 0) spec.attribute("CompressionQuality", quality);
-    if (lower(path.extension().string()) == ".exr") spec.attribute("compression", "zip");
+    if (lower(path.extension().string()) == ".exr") {
+      spec.attribute("compression", "zip");
+      // OIIO stamps EXRs with the current time unless told a DateTime: an empty one keeps the
+      // same pixels byte-identical from run to run (issue 9, determinism)
+      spec.attribute("DateTime", "");
+    }
     PS_Check(out->open(tmp.string(), spec), "cannot open " << path << " for writing: " << out->geterror());
     OIIO::TypeDesc memType = data.depth() == CV_8U    ? OIIO::TypeDesc::UINT8
                              : data.depth() == CV_16U ? OIIO::TypeDesc::UINT16

@@ -26,7 +26,14 @@ struct ParseState {
   std::string file;
   std::vector<RawCorner> corners;
   std::vector<std::string> pendingErrors;
+  ObjLimits limits;
 };
+
+std::string withThousands(int64_t n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<size_t>(i), ",");
+  return s;
+}
 
 int materialFor(ParseState& s) {
   if (s.currentMaterial >= 0) return s.currentMaterial;
@@ -102,6 +109,10 @@ void onVertex(void* user, float x, float y, float z, float) {
   auto& s = *static_cast<ParseState*>(user);
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
     throw InputError(s.file, "line " + std::to_string(s.line), "vertex with a non-finite coordinate");
+  if (static_cast<int64_t>(s.mesh.positions.size()) >= s.limits.maxVertices)
+    throw InputError(s.file, "line " + std::to_string(s.line),
+                     "expected at most " + withThousands(s.limits.maxVertices) +
+                         " vertices (the supported OBJ size); refused at the first vertex over it");
   s.mesh.positions.emplace_back(x, y, z);
 }
 
@@ -155,6 +166,11 @@ void onFace(void* user, tinyobj::index_t* indices, int count) {
   }
   const int material = materialFor(s);
   auto push = [&](const ObjCorner& a, const ObjCorner& b, const ObjCorner& c) {
+    if (static_cast<int64_t>(s.mesh.triangles.size()) >= s.limits.maxTriangles)
+      throw InputError(
+          s.file, where,
+          "expected at most " + withThousands(s.limits.maxTriangles) +
+              " triangles (the supported OBJ size); refused at the first face over it");
     s.mesh.triangles.push_back({a, b, c});
     s.mesh.triangleMaterial.push_back(material);
     s.mesh.triangleLine.push_back(s.line);
@@ -177,14 +193,23 @@ void onFace(void* user, tinyobj::index_t* indices, int count) {
 
 }  // namespace
 
-ObjMesh readObj(const fs::path& path) {
+ObjMesh readObj(const fs::path& path, const ObjLimits& limits) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path.string(), "", "OBJ file not found");
+  if (const auto bytes = fs::file_size(path, ec);
+      !ec && static_cast<int64_t>(bytes) > limits.maxFileBytes)
+    throw InputError(path.string(), "",
+                     "expected an OBJ of at most " + withThousands(limits.maxFileBytes >> 20) +
+                         " MiB, " + withThousands(limits.maxTriangles) + " triangles and " +
+                         withThousands(limits.maxVertices) +
+                         " vertices (the supported size), but the file is " +
+                         withThousands(static_cast<int64_t>(bytes)) + " bytes (not read)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "", "cannot open the OBJ file");
 
   ParseState state;
   state.file = path.string();
+  state.limits = limits;
   tinyobj::callback_t cb;
   cb.vertex_cb = onVertex;
   cb.normal_cb = onNormal;

@@ -175,6 +175,33 @@ TEST(Io_Obj, round_trip_through_writer) {
   EXPECT_EQ(r.triangles[0][1].texcoord, 1);
 }
 
+// Issue 9, resource limits: refused at the first triangle / vertex over the limit (named by its
+// line), and by the file size before anything is read.
+TEST(Io_Obj, files_over_the_limits_are_refused_naming_the_line_and_the_limit) {
+  TempDir dir;
+  writeText(dir / "quads.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3 4\nf 1 2 3\n");
+  ObjLimits limits;
+  limits.maxTriangles = 5;  // 2 quads (2 triangles each) and a triangle: exactly at the limit
+  EXPECT_EQ(readObj(dir / "quads.obj", limits).triangles.size(), 5u);
+  limits.maxTriangles = 3;  // the second quad's second triangle is the 4th
+  std::string msg = inputErrorOf([&] { readObj(dir / "quads.obj", limits); });
+  EXPECT_TRUE(contains(msg, "quads.obj: line 6: expected at most 3 triangles")) << msg;
+  limits = ObjLimits();
+  limits.maxVertices = 3;
+  msg = inputErrorOf([&] { readObj(dir / "quads.obj", limits); });
+  EXPECT_TRUE(contains(msg, "quads.obj: line 4: expected at most 3 vertices")) << msg;
+  limits = ObjLimits();
+  limits.maxFileBytes = 10;
+  msg = inputErrorOf([&] { readObj(dir / "quads.obj", limits); });
+  EXPECT_TRUE(contains(msg, "quads.obj: expected an OBJ of at most")) << msg;
+  EXPECT_TRUE(contains(msg, "but the file is 60 bytes (not read)")) << msg;
+  // the defaults: what the README states
+  EXPECT_EQ(ObjLimits().maxTriangles, 5'000'000);
+  EXPECT_EQ(ObjLimits().maxVertices, 5'000'000);
+  EXPECT_EQ(ObjLimits().maxFileBytes, int64_t(1) << 30);
+}
+
 TEST(Io_Obj, bad_files_name_the_file_and_line) {
   TempDir dir;
   writeText(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");

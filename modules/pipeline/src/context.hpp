@@ -114,6 +114,8 @@ class StageScope {
   Context& ctx_;
   StageRecord rec_;
   Timer timer_;
+  /// std::uncaught_exceptions() at the start: more at the end means the stage stopped
+  int exceptions_;
 };
 
 // stages (pipeline.cpp)

@@ -9,6 +9,7 @@
 
 #include "context.hpp"
 #include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
 #include "photoscene/eval.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/report.hpp"
@@ -293,6 +294,16 @@ void stageMetrics(Context& ctx, double secondsSoFar) {
   for (const StageRecord& r : ctx.result.stages) seconds[r.name] = r.seconds;
   seconds["metrics"] = e.seconds;
   eval::writeMetricsJson(out, e, seconds, ctx.preset, secondsSoFar + e.seconds);
+  // peak resident memory (getrusage ru_maxrss, monotonic) at the end of each stage so far
+  nlohmann::json metrics = io::readJsonFile(out / "metrics.json");
+  nlohmann::json stages = nlohmann::json::object();
+  for (const StageRecord& r : ctx.result.stages)
+    stages[r.name] = std::round(r.peakMemoryMiB * 10) / 10;
+  const double peak = peakMemoryMiB();
+  stages["metrics"] = std::round(peak * 10) / 10;
+  metrics["peak_memory_mib"] = {
+      {"run", stages["metrics"]}, {"after_stage", stages}, {"source", "getrusage ru_maxrss"}};
+  io::writeJsonFile(out / "metrics.json", metrics);
   ctx.cache->store("metrics", key, Archive());
   stage.computed();
 }

@@ -2,9 +2,13 @@
 #include "photoscene/pipeline/pipeline.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
+#include <fstream>
 #include <numeric>
+#include <thread>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -13,6 +17,7 @@
 #include "context.hpp"
 #include "photoscene/align.hpp"
 #include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
 #include "photoscene/features.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/lighting.hpp"
@@ -94,20 +99,51 @@ cv::Mat ViewWork::partPhoto(int part) const {
   return out;
 }
 
-StageScope::StageScope(Context& ctx, std::string name) : ctx_(ctx) {
+namespace {
+
+// The testing hooks of pipeline.hpp: a failure or a pause (for a signal) at a stage's start.
+void stageTestingHooks(const std::string& stage) {
+  if (const char* f = std::getenv("PS_FAIL_AT_STAGE"); f && stage == f)
+    throw Exception(
+        fmt::format("PS_FAIL_AT_STAGE={}: failure injected into stage {} (a testing hook)", f,
+                    stage),
+        __FILE__, __LINE__, __func__);
+  if (const char* p = std::getenv("PS_PAUSE_AT_STAGE"); p && stage == p) {
+    if (const char* marker = std::getenv("PS_PAUSE_MARKER"); marker && *marker)
+      std::ofstream(marker) << stage << '\n';
+    spdlog::info("PS_PAUSE_AT_STAGE={}: waiting for SIGINT / SIGTERM (a testing hook)", p);
+    for (int i = 0; i < 6000 && !interruptRequested(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    checkInterrupted();
+  }
+}
+
+}  // namespace
+
+StageScope::StageScope(Context& ctx, std::string name)
+    : ctx_(ctx), exceptions_(std::uncaught_exceptions()) {
   rec_.name = std::move(name);
   checkInterrupted();
   spdlog::info("stage {}", rec_.name);
+  stageTestingHooks(rec_.name);
 }
 
 StageScope::~StageScope() {
   rec_.seconds = timer_.seconds();
+  rec_.peakMemoryMiB = peakMemoryMiB();
+  if (std::uncaught_exceptions() > exceptions_)
+    spdlog::info("stage {} stopped: {} computed, {} cached (kept in the stage cache)", rec_.name,
+                 rec_.computed, rec_.cached);
+  else
+    spdlog::info("stage {} done: {} computed, {} cached, {:.2f} s, peak memory {:.0f} MiB",
+                 rec_.name, rec_.computed, rec_.cached, rec_.seconds, rec_.peakMemoryMiB);
   // a stage run more than once (lights, incident) adds up
   for (StageRecord& r : ctx_.result.stages)
     if (r.name == rec_.name) {
       r.seconds += rec_.seconds;
       r.computed += rec_.computed;
       r.cached += rec_.cached;
+      r.peakMemoryMiB = std::max(r.peakMemoryMiB, rec_.peakMemoryMiB);
       return;
     }
   ctx_.result.stages.push_back(rec_);
@@ -1036,6 +1072,9 @@ PipelineResult runPipeline(const PipelineOptions& options) {
     ctx.result.lightRadiance.push_back(ctx.scene.lights.environment->radiance.cast<double>());
   }
   ctx.result.exposure = ctx.exposure;
+  ctx.result.peakMemoryMiB = peakMemoryMiB();
+  spdlog::info("run: {:.1f} s, peak memory {:.0f} MiB", ctx.result.totalSeconds,
+               ctx.result.peakMemoryMiB);
   return ctx.result;
 }
 

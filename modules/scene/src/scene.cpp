@@ -141,6 +141,15 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
     view.imagePath = vd.image;
     view.camera = Camera::fromDesc(vd.camera);
     const io::ImageInfo info = io::readImageInfo(vd.image);
+    const int64_t pixels = static_cast<int64_t>(info.width) * info.height;
+    if (pixels > kMaxPhotoPixels)
+      throw InputError(
+          file, key + ".image",
+          "expected a photo of at most " + std::to_string(kMaxPhotoPixels / 1'000'000) +
+              " megapixels (the supported size; scale the photo and the camera down), but " +
+              vd.image.string() + " is " + std::to_string(info.width) + "x" +
+              std::to_string(info.height) + " (" + std::to_string(pixels / 1'000'000) +
+              " megapixels)");
     if (info.width != vd.camera.width || info.height != vd.camera.height)
       throw InputError(file, key + ".image",
                        "expected a " + std::to_string(vd.camera.width) + "x" + std::to_string(vd.camera.height) +
@@ -161,8 +170,14 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
       view.photo = io::readImage(vd.image, io::parseColorSpace(vd.colorSpace));
       if (vd.segments) {
         view.segments = io::readLabelImage(*vd.segments);
+        // which values occur, in one pass (a 16-bit label image may name up to 65,535 regions)
+        std::vector<uint8_t> present(65536, 0);
+        for (int y = 0; y < view.segments.rows; ++y) {
+          const int* row = view.segments.ptr<int>(y);
+          for (int x = 0; x < view.segments.cols; ++x) present[static_cast<uint16_t>(row[x])] = 1;
+        }
         for (const auto& [value, part] : view.segmentParts) {
-          if (cv::countNonZero(view.segments == value) == 0)
+          if (value < 0 || value > 65535 || !present[value])
             spdlog::warn("{}: {}.segment_parts.{}: region value {} does not occur in {}", file, key, value,
                          value, vd.segments->string());
         }

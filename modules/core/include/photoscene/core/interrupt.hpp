@@ -1,5 +1,6 @@
 // Ctrl-C as a request, not a kill: the first SIGINT (or SIGTERM) sets a flag that long loops
-// check between units of work, so a run stops between whole files; a second one exits at once.
+// check between units of work, so a run stops between whole files; a second one exits at once
+// (status 128 + the signal's number: 130 for SIGINT, 143 for SIGTERM).
 //
 //   ps::InterruptGuard guard;            // installs the handlers for this scope
 //   for (...) { ps::checkInterrupted(); ... }   // throws ps::Interrupted once requested
@@ -9,10 +10,15 @@
 
 namespace ps {
 
-/// Thrown by checkInterrupted() after SIGINT / SIGTERM.
+/// Thrown by checkInterrupted() after SIGINT / SIGTERM. `signal()` is the signal's number
+/// (SIGINT for requestInterrupt()); applications exit with 128 + signal().
 class Interrupted : public std::runtime_error {
  public:
-  Interrupted() : std::runtime_error("interrupted") {}
+  explicit Interrupted(int signal = 2) : std::runtime_error("interrupted"), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
 };
 
 /// Installs SIGINT / SIGTERM handlers for its lifetime (restoring the previous ones after).
@@ -26,6 +32,8 @@ class InterruptGuard {
 
 /// True once an interrupt was requested (and until clearInterrupt()).
 bool interruptRequested();
+/// The signal of the first request (SIGINT or SIGTERM; SIGINT for requestInterrupt()), 0 when none.
+int interruptSignal();
 /// Requests an interrupt as SIGINT would (for tests and embedding applications).
 void requestInterrupt();
 void clearInterrupt();

@@ -4,6 +4,7 @@
 // are linear. Everything returned is linear float, RGB order (not OpenCV's BGR), row 0 on top.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <string>
@@ -28,11 +29,18 @@ struct ImageInfo {
   std::string format;  ///< OIIO format name ("png", "openexr", ...)
 };
 
+/// The largest image (width x height) read: 100 megapixels. Checked from the header before any
+/// pixel is decoded (a file claiming more is refused, whatever its real size), so no read
+/// allocates more than 100 M x 4 channels x 4 bytes. Photos have a tighter, stated limit in
+/// `loadScene` (what a run costs per photo pixel).
+constexpr int64_t kMaxImagePixels = 100'000'000;
+
 /// Reads only the header. Throws ps::InputError naming the file when missing or unreadable.
 ImageInfo readImageInfo(const fs::path& path);
 
 /// Reads a color image as CV_32FC3 linear RGB. Gray is replicated, alpha dropped.
-/// Throws ps::InputError naming the file when missing, unreadable or with 0 or > 4 channels.
+/// Throws ps::InputError naming the file when missing, unreadable, with 0 or > 4 channels, or
+/// larger than kMaxImagePixels (the reads below too).
 cv::Mat readImage(const fs::path& path, ColorSpace colorSpace = ColorSpace::Auto);
 
 /// Reads a data map with no color conversion: CV_32FC(n) with n the file's channel count;

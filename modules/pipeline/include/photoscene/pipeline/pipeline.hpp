@@ -68,6 +68,7 @@ struct StageRecord {
   double seconds = 0;
   int computed = 0;  ///< units (views, parts, ...) computed in this run
   int cached = 0;    ///< units loaded from the stage cache
+  double peakMemoryMiB = 0;  ///< the process's peak resident memory at the stage's end (ru_maxrss)
 };
 
 struct PipelineResult {
@@ -78,13 +79,20 @@ struct PipelineResult {
   std::vector<std::string> lightNames;    ///< emitters (and "environment" last when present)
   std::vector<Vec3d> lightRadiance;       ///< recovered (or given) radiance, same order
   std::vector<double> exposure;           ///< per view
+  double peakMemoryMiB = 0;               ///< the process's peak resident memory over the run
   const StageRecord* stage(const std::string& name) const;
   int computedUnits() const;              ///< sum over stages
 };
 
-/// Runs every stage. Bad input (scene.json and what it names, unknown graphs in `parts`) throws
-/// ps::InputError before anything is written. Ctrl-C (SIGINT) stops at the next check point
-/// with ps::Interrupted, leaving only whole files.
+/// Runs every stage. Bad input (scene.json and what it names, unknown graphs in `parts`, inputs
+/// over the resource limits) throws ps::InputError before anything is written. SIGINT / SIGTERM
+/// stop at the next check point with ps::Interrupted, leaving only whole files; a rerun continues
+/// from the stage cache.
+///
+/// Testing hooks (environment variables, for the failure-safety tests; README "Robustness"):
+///   PS_FAIL_AT_STAGE=<stage>   that stage throws ps::Exception as it starts
+///   PS_PAUSE_AT_STAGE=<stage>  that stage waits (up to 60 s) for SIGINT / SIGTERM as it starts,
+///                              first writing the file $PS_PAUSE_MARKER when that is set
 PipelineResult runPipeline(const PipelineOptions& options);
 
 }  // namespace ps

@@ -1,0 +1,21 @@
+#include "photoscene/core/memory.hpp"
+
+#include <sys/resource.h>
+
+namespace ps {
+
+int64_t peakMemoryBytes() {
+  struct rusage u {};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return 0;
+#if defined(__APPLE__)
+  return static_cast<int64_t>(u.ru_maxrss);  // bytes on macOS
+#else
+  return static_cast<int64_t>(u.ru_maxrss) * 1024;  // KiB on Linux
+#endif
+}
+
+double peakMemoryMiB() {
+  return static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);
+}
+
+}  // namespace ps
