@@ -5,7 +5,9 @@
 //   ps_bench_select [--draws N] [--scales a,b,c] [--size S] [--map M] [--k K] [--observed N]
 //                   [--shading S] [--category-first 0|1] [--projection 0|1] [--linear-only 1]
 //                   [--seed S (held-out draws; the test's: 2024)] [--observed-protocol 0|1]
-//                   [--structure W] [--sweep-k 1 (k and category-first vote)] [--profile-only 1]
+//                   [--structure W] [--sweep-k 1 (k, distinct draws, category-first vote)]
+//                   [--distinct 0|1 (1: the k nearest draws vote; default 0: the k nearest rows)]
+//                   [--cache DIR] [--profile-only 1]
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -48,6 +50,8 @@ int main(int argc, char** argv) {
       held.categoryFirst = std::atoi(v.c_str()) != 0;
     else if (a == "--projection")
       options.discriminantProjection = std::atoi(v.c_str()) != 0;
+    else if (a == "--distinct")
+      held.distinctDraws = std::atoi(v.c_str()) != 0;
     else if (a == "--sweep-k")
       sweepK = std::atoi(v.c_str()) != 0;
     else if (a == "--profile-only")
@@ -117,7 +121,7 @@ int main(int argc, char** argv) {
     const int queries = std::min(bank.rows(), 500);
     for (int q = 0; q < queries; ++q) {
       std::vector<float> key(bank.dim(), 0.1f * (q % 7));
-      bank.select(key, held.k);
+      bank.select(key, held.k, held.categoryFirst, held.distinctDraws);
     }
     const double queryUs = tq.seconds() * 1e6 / queries;
     const ps::SelectionReport r = ps::evaluateSelection(bank, lib, options, held);
@@ -126,14 +130,16 @@ int main(int argc, char** argv) {
     if (type == ps::KnnIndexType::Linear) std::printf("%s", r.table().c_str());
     if (type == ps::KnnIndexType::Linear && sweepK) {
       for (int k : {5, 11, 21, 41})
-        for (int cf : {0, 1}) {
-          ps::HeldOutOptions h = held;
-          h.k = k;
-          h.categoryFirst = cf;
-          const ps::SelectionReport q = ps::evaluateSelection(bank, lib, options, h);
-          std::printf("sweep k %d categoryFirst %d: %.1f / %.1f\n", k, cf, 100 * q.top1Accuracy(),
-                      100 * q.categoryAccuracy());
-        }
+        for (int distinct : {0, 1})
+          for (int cf : {0, 1}) {
+            ps::HeldOutOptions h = held;
+            h.k = k;
+            h.distinctDraws = distinct;
+            h.categoryFirst = cf;
+            const ps::SelectionReport q = ps::evaluateSelection(bank, lib, options, h);
+            std::printf("sweep k %d distinctDraws %d categoryFirst %d: %.1f / %.1f\n", k, distinct,
+                        cf, 100 * q.top1Accuracy(), 100 * q.categoryAccuracy());
+          }
     }
   }
   if (!observedProtocol) return 0;

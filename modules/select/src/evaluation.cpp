@@ -12,7 +12,8 @@ namespace ps {
 std::string SelectionReport::table() const {
   std::string s;
   char buf[256];
-  std::snprintf(buf, sizeof buf, "held-out selection: top-1 graph %.1f%%, category %.1f%% over %d draws\n",
+  std::snprintf(buf, sizeof buf,
+                "held-out selection: top-1 graph %.1f%%, category %.1f%% over %d draws\n",
                 100 * top1Accuracy(), 100 * categoryAccuracy(), total);
   s += buf;
   s += "category confusion (rows: truth, columns: chosen)\n";
@@ -60,15 +61,18 @@ SelectionReport evaluateSelection(const ExemplarBank& bank, const GraphLibrary& 
     r.correctPerGraph[name] = 0;
     for (int d = 0; d < o.drawsPerGraph; ++d) {
       g.setValues(g.randomValues(mix64(o.seed + 7919ULL * r.total), o.spread));
-      const MaterialMaps maps = g.evaluate(bankOptions.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+      const MaterialMaps maps =
+          g.evaluate(bankOptions.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       const float scale = std::exp(rng.uniform(std::log(o.minUvScale), std::log(o.maxUvScale)));
       const float rot = rng.uniform(0.f, 360.f);
       const float level = std::exp(rng.uniform(std::log(o.minLevel), std::log(o.maxLevel)));
       cv::Vec3f light;
-      for (int c = 0; c < 3; ++c) light[c] = level * rng.uniform(1 - o.colorJitter, 1 + o.colorJitter);
+      for (int c = 0; c < 3; ++c)
+        light[c] = level * rng.uniform(1 - o.colorJitter, 1 + o.colorJitter);
       PartSelectionOptions query;
       query.k = o.k;
       query.categoryFirst = o.categoryFirst;
+      query.distinctDraws = o.distinctDraws;
       GraphChoice c;
       if (o.observed) {
         ObservedPlaneParams p = randomObservation(bankOptions.observation, rng);

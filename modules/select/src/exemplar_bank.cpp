@@ -284,6 +284,7 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
       }
     }
   });
+  bank.countRenderingsPerDraw();
   if (options.discriminantProjection) bank.learnProjection();
   bank.index_ =
       std::make_unique<KnnIndex>(bank.keys_, bank.rows(), bank.indexDim(), options.indexType);
@@ -484,6 +485,7 @@ ExemplarBank ExemplarBank::load(const std::filesystem::path& file, uint64_t libr
   bank.projection_ = std::move(projection);
   bank.projectedDim_ = static_cast<int>(projectedDim);
   bank.buildSeconds_ = seconds;
+  bank.countRenderingsPerDraw();
   bank.libraryHash_ = libraryHash;
   bank.optionsHash_ = options.hash();
   bank.options_ = options;
@@ -526,9 +528,34 @@ ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library,
   return bank;
 }
 
-GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool categoryFirst) const {
+void ExemplarBank::countRenderingsPerDraw() {
+  std::map<std::pair<int, int>, int> count;
+  maxRenderingsPerDraw_ = 1;
+  for (const Exemplar& e : exemplars_)
+    maxRenderingsPerDraw_ = std::max(maxRenderingsPerDraw_, ++count[{e.graph, e.draw}]);
+}
+
+GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool categoryFirst,
+                                 bool distinctDraws) const {
+  PS_Check(k >= 1, "select: k must be >= 1, got " << k);
   GraphChoice choice;
-  const KnnResult r = index_->search(project(key), k);
+  KnnResult r;
+  if (!distinctDraws || maxRenderingsPerDraw_ <= 1) {
+    r = index_->search(project(key), k);
+  } else {
+    // k * renderings rows always hold at least k distinct draws; a draw's first row in distance
+    // order is its nearest rendering, so the first k distinct draws are the k nearest draws
+    const KnnResult all = index_->search(project(key), k * maxRenderingsPerDraw_);
+    std::vector<std::pair<int, int>> seen;
+    for (size_t i = 0; i < all.index.size() && static_cast<int>(r.index.size()) < k; ++i) {
+      const Exemplar& e = exemplars_[all.index[i]];
+      const std::pair<int, int> id{e.graph, e.draw};
+      if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+      seen.push_back(id);
+      r.index.push_back(all.index[i]);
+      r.distance.push_back(all.distance[i]);
+    }
+  }
   std::map<int, GraphVote> votes;
   std::map<std::string, GraphVote> catVotes;
   for (size_t i = 0; i < r.index.size(); ++i) {

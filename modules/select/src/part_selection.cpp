@@ -223,7 +223,7 @@ GraphChoice selectForPart(const ExemplarBank& bank, const cv::Mat& photo, const 
   const PartTexture t =
       preparePartTexture(photo, mask, uv, shading, bank.options().shadingSigma, options);
   return bank.select(describeTexture(t.image, t.mask, bank.options()), options.k,
-                     options.categoryFirst);
+                     options.categoryFirst, options.distinctDraws);
 }
 
 // ---------------------------------------------------------------- observation model

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io/files.hpp"
@@ -94,24 +95,74 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
   EXPECT_EQ(ExemplarBank::load(file, library().contentHash(), small).rows(), 0);
 }
 
+TEST(Select_Bank, distinct_draws_vote_once_through_their_nearest_rendering) {
+  // 2 canonical scales + 1 observed rendering per draw: with distinctDraws, the k neighbours are
+  // k different (graph, draw) pairs, each its nearest rendering, nearest first; the nearest
+  // neighbour is the same as without it
+  ExemplarBankOptions small;
+  small.drawsPerGraph = 2;
+  small.uvScales = {2.0f, 3.0f};
+  small.observedPerDraw = 1;
+  small.renderSize = 48;
+  small.mapSize = 64;
+  small.indexType = KnnIndexType::Linear;
+  const ExemplarBank b = ExemplarBank::build(library(), small);
+  EXPECT_EQ(b.maxRenderingsPerDraw(), 3);
+  MaterialGraph g = library().create(library().names()[3]);
+  const MaterialMaps maps = g.evaluate(64, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+  const cv::Mat mask(48, 48, CV_8UC1, cv::Scalar(255));
+  const std::vector<float> key =
+      describeTexture(renderCanonicalPatch(maps, 48, 2.5f, 30.f), mask, small);
+  const int k = 7;
+  const GraphChoice rows = b.select(key, k, false, false);
+  const GraphChoice draws = b.select(key, k, false, true);
+  ASSERT_EQ(draws.neighbours.size(), static_cast<size_t>(k));
+  EXPECT_EQ(draws.neighbours[0], rows.neighbours[0]);
+  std::set<std::pair<int, int>> ids;
+  for (size_t i = 0; i < draws.neighbours.size(); ++i) {
+    const Exemplar& e = b.exemplars()[draws.neighbours[i]];
+    ids.insert({e.graph, e.draw});
+    if (i > 0) EXPECT_GE(draws.distances[i], draws.distances[i - 1]);
+  }
+  EXPECT_EQ(ids.size(), static_cast<size_t>(k));
+  // every rendering of a chosen draw is at least as far as the one that votes for it
+  const std::vector<float> q = b.project(key);
+  for (size_t i = 0; i < draws.neighbours.size(); ++i) {
+    const Exemplar& chosen = b.exemplars()[draws.neighbours[i]];
+    for (int r = 0; r < b.rows(); ++r) {
+      const Exemplar& e = b.exemplars()[r];
+      if (e.graph != chosen.graph || e.draw != chosen.draw) continue;
+      double d = 0;
+      for (int j = 0; j < b.indexDim(); ++j)
+        d += std::pow(q[j] - b.keys()[static_cast<size_t>(r) * b.indexDim() + j], 2);
+      EXPECT_GE(std::sqrt(d), draws.distances[i] - 1e-3);
+    }
+  }
+  int votes = 0;
+  for (const GraphVote& v : draws.votes) votes += v.count;
+  EXPECT_EQ(votes, k);
+}
+
 TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
   // Issue 5's protocol (canonical patches, random UV rotation and scale, random light color and
   // level; 59 graphs x 5 draws, seed 2024): top-1 >= 60%, category >= 85% asked. Measured with
-  // the structure statistics and 6 canonical scales: 77.6% / 84.1% exhaustive, 76.9% / 83.7%
-  // with the kd-tree index (before: 59.7% / 67.1%); on other held-out seeds (777, used for
-  // development) 75.9% / 83.1%. 295 draws: about +-2.5% (top-1) and +-2.1% (category) one
-  // standard deviation. Top-1 is held at the issue's level with margin; category is held at
-  // 80%, below the issue's 85%: seven graphs (paint_eggshell, _glossy, _matte_wall, paper_white,
-  // plastic_glossy, _laminate, _textured) are the same graph (fbm times a colour) with other fbm
-  // scales, which a random UV scale and light colour make indistinguishable.
+  // the structure statistics, 10 canonical scales and 3 observed exemplars per draw: 82.0% /
+  // 86.1% exhaustive, 80.3% / 85.8% with the kd-tree index this test uses (6 scales and 2
+  // observed: 77.6% / 84.1% exhaustive; before the structure statistics 59.7% / 67.1%); on the
+  // development seed 777, 78.6% / 85.8% exhaustive. 295 draws: about +-2.3% (top-1) and +-2.0%
+  // (category) one standard deviation. Top-1 is held at the issue's level with margin; category
+  // reaches the issue's 85% but by 2 to 3 draws, so it is held at 83%: seven graphs
+  // (paint_eggshell, _glossy, _matte_wall, paper_white, plastic_glossy, _laminate, _textured)
+  // are the same graph (fbm times a colour) with other fbm scales, which a random UV scale and
+  // light colour make indistinguishable.
   const ExemplarBank& b = bank();
   const ExemplarBankOptions o;
   ASSERT_EQ(b.rows(), library().size() * o.drawsPerGraph *
                           (static_cast<int>(o.uvScales.size()) + o.observedPerDraw));
   const SelectionReport r = evaluateSelection(b, library(), o);
   std::printf("%s", r.table().c_str());
-  EXPECT_GE(r.top1Accuracy(), 0.70);
-  EXPECT_GE(r.categoryAccuracy(), 0.80);
+  EXPECT_GE(r.top1Accuracy(), 0.75);
+  EXPECT_GE(r.categoryAccuracy(), 0.83);
 }
 
 TEST(Select_Bank, observed_parts_select_their_graph_and_category) {

@@ -40,6 +40,7 @@ namespace ps {
 struct PartSelectionOptions {
   int k = 21;                  ///< neighbours that vote
   bool categoryFirst = false;  ///< ExemplarBank::select's category-first vote
+  bool distinctDraws = false;  ///< ExemplarBank::select: the k nearest draws vote, not rows
   bool unwarp = true;          ///< query in texture space when UVs are given
   /// The unwarped texture's density follows this percentile of the pixels' UV footprints (0.5:
   /// one texel per median pixel; higher: coarser texels, fewer holes where the part is far).
