@@ -2,9 +2,11 @@
 
 #include <atomic>
 #include <cmath>
+#include <csignal>
 #include <vector>
 
 #include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
 
 namespace ps {
 namespace {
@@ -180,4 +182,34 @@ TEST(Core_Math, orthonormal_basis_is_orthonormal) {
 }
 
 }  // namespace
+// Issue 9: SIGTERM takes the graceful path of SIGINT and is told apart (exit 143, not 130).
+TEST(Core_Interrupt, sigterm_is_a_request_named_by_its_signal) {
+  clearInterrupt();
+  EXPECT_EQ(interruptSignal(), 0);
+  {
+    InterruptGuard guard;
+    std::raise(SIGTERM);
+    EXPECT_TRUE(interruptRequested());
+    EXPECT_EQ(interruptSignal(), SIGTERM);
+    try {
+      checkInterrupted();
+      ADD_FAILURE() << "checkInterrupted() did not throw";
+    } catch (const Interrupted& e) {
+      EXPECT_EQ(e.signal(), SIGTERM);
+    }
+  }
+  clearInterrupt();
+  requestInterrupt();
+  EXPECT_EQ(interruptSignal(), SIGINT);
+  clearInterrupt();
+  EXPECT_FALSE(interruptRequested());
+}
+
+TEST(Core_Memory, peak_memory_grows_with_a_touched_allocation) {
+  const int64_t before = peakMemoryBytes();
+  EXPECT_GT(before, 0);
+  std::vector<char> block(size_t(64) << 20, 1);  // 64 MiB, touched
+  EXPECT_GE(peakMemoryBytes(), before + (int64_t(32) << 20) * (block[12345] == 1));
+}
+
 }  // namespace ps
