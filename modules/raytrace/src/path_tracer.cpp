@@ -61,6 +61,10 @@ struct PathTracer::Lights {
   std::vector<int> meshTriWindow;  // mesh triangle -> windowTris index or -1
   Distribution2D envDist;          // image environments without windows
   float envMeanLum = 1;
+  /// With windows: sum over window triangles of area x the environment's luminance through them
+  /// weighted by |cos| to the window (over the outward hemisphere) / pi: the power that enters,
+  /// in the units of an area light's luminance x area.
+  float windowPower = 0;
   float sceneRadius = 1;
 };
 
@@ -304,6 +308,35 @@ PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& mate
     } else {
       L.envMeanLum = 1.0f;
     }
+    // power through the windows: what the environment sends in through each window triangle, not
+    // its mean over the whole sphere (a sun outside a window would otherwise get a small selection
+    // probability and its next-event samples a large weight: fireflies)
+    const Vec3f center = 0.5f * (box.min() + box.max());
+    double power = 0;
+    for (const auto& t : L.windowTris) {
+      const Vec3f c = t.p0 + (t.e1 + t.e2) / 3.0f;
+      const Vec3f out =
+          t.n.dot(c - center) >= 0 ? t.n : Vec3f(-t.n);  // away from the room's middle
+      double e = 0;  // integral of luminance x cos+ over the sphere, / pi
+      if (img.empty())
+        e = 1.0;
+      else {
+        const int W = img.cols, H = img.rows;
+        for (int y = 0; y < H; ++y)
+          for (int x = 0; x < W; ++x) {
+            const Vec3f d = L.envUnit.uvToDirection(Vec2f((x + 0.5f) / W, (y + 0.5f) / H));
+            const float cs = d.dot(out);
+            if (cs <= 0) continue;
+            const cv::Vec3f v = img.at<cv::Vec3f>(y, x);
+            const float l = luminance(Vec3f(v[0], v[1], v[2]));
+            if (!std::isfinite(l) || l <= 0) continue;
+            const double dOmega = (2 * kPiD / W) * (kPiD / H) * std::sin(kPiD * (y + 0.5) / H);
+            e += l * cs * dOmega / kPiD;
+          }
+      }
+      power += t.area * e;
+    }
+    L.windowPower = static_cast<float>(power);
   }
   setupSeconds_ = timer.seconds();
   spdlog::info(
@@ -787,19 +820,22 @@ ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L,
                                                          : Vec3f(Vec3f::Ones());
     const float lum = L.envMeanLum * luminance(act.envScale);
     // estimated power entering the scene: through the windows, or over a sphere around the scene
-    const float areaIn = L.windowTris.empty() ? kPi * L.sceneRadius * L.sceneRadius : L.windowArea;
-    w[area.size()] = std::max(0.0f, lum * areaIn);
+    w[area.size()] = L.windowTris.empty()
+                         ? std::max(0.0f, lum * kPi * L.sceneRadius * L.sceneRadius)
+                         : std::max(0.0f, L.windowPower * luminance(act.envScale));
     if (!L.windowTris.empty() && L.windowArea <= 0) w[area.size()] = 0;
     if (L.windowTris.empty() && !L.envUnit.image.empty() && L.envDist.empty()) w[area.size()] = 0;
   }
-  // every shining light gets at least 5% of the average share, so none is starved
+  // half by power, half uniform over the shining lights (as Cycles before its light tree): power
+  // alone says nothing about where a light matters (a sun through a window is a small share of
+  // the power but all of the light on its patch; at 5 % its samples came back 20 x: fireflies)
   float total = 0;
   int n = 0;
   for (float x : w)
     if (x > 0) total += x, ++n;
   if (n > 0)
     for (float& x : w)
-      if (x > 0) x = std::max(x, 0.05f * total / n);
+      if (x > 0) x = 0.5f * x / total + 0.5f / n;
   act.select = Distribution1D(w);
   return act;
 }
