@@ -79,15 +79,16 @@ TEST(Samples, light_fit_explains_the_photo) {
 
 TEST(Samples, select_gives_every_part_a_graph) {
   if (!haveSample() || !fs::exists(kBin / "ps_sample_select")) GTEST_SKIP() << "sample or program not built";
-  ps::io::TempDir cache;
+  // the build tree's shared bank cache (built once per test run, whichever test comes first)
+  const fs::path cache = kBin.parent_path() / "photoscene-cache";
   const Result r = run((kBin / "ps_sample_select").string() + " " + (kSample / "scene.json").string() + " " +
-                       cache.path().string());
+                       cache.string());
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("floor"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("exemplar bank"), std::string::npos) << r.output;
   // a second run loads the cached bank
   const Result again = run((kBin / "ps_sample_select").string() + " " + (kSample / "scene.json").string() + " " +
-                           cache.path().string());
+                           cache.string());
   EXPECT_NE(again.output.find("loaded"), std::string::npos) << again.output;
 }
 

@@ -563,6 +563,7 @@ void stageIncident(Context& ctx, bool fitted) {
 void stageSelect(Context& ctx) {
   StageScope stage(ctx, "select");
   std::unique_ptr<ExemplarBank> bank;
+  const std::string bankName = ExemplarBank::cacheFileName(*ctx.library, {});
   for (PartWork& p : ctx.parts) {
     checkInterrupted();
     if (p.mode != PartMode::Fit) continue;
@@ -573,6 +574,9 @@ void stageSelect(Context& ctx) {
     Hasher h;
     h.add(kCacheVersion).add(view.alignKey).add(p.view).add(std::string_view(p.name));
     if (desc && desc->graph) h.add(std::string_view(*desc->graph));
+    // the bank's file name carries its format version, the library's content hash and its
+    // options: a new bank (or library) redoes the selections made with the old one
+    h.add(std::string_view(bankName));
     p.selectKey = h.digest();
     const std::string name = "select-" + p.name;
     if (auto hit = ctx.cache->load(name, p.selectKey)) {

@@ -519,12 +519,35 @@ ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library,
                  file.string(), timer.milliseconds());
     return bank;
   }
-  if (loadedFromCache) *loadedFromCache = false;
-  bank = build(library, options);
-  bank.libraryHash_ = library.contentHash();
-  bank.optionsHash_ = options.hash();
+  // One builder per cache file: processes sharing the cache (parallel runs, the test suite) wait
+  // on an advisory lock and then load what the first one built. The lock goes with the process.
   std::filesystem::create_directories(cacheFolder);
-  bank.save(file);
+  const std::filesystem::path lockPath = file.string() + ".lock";
+  const int lock = ::open(lockPath.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock >= 0) {
+    while (::flock(lock, LOCK_EX) != 0 && errno == EINTR) {
+    }
+    bank = load(file, library.contentHash(), options);
+    if (bank.rows() > 0) {
+      ::close(lock);
+      if (loadedFromCache) *loadedFromCache = true;
+      spdlog::info(
+          "exemplar bank: loaded {} exemplars from {} (built by another process) in {:.1f} ms",
+          bank.rows(), file.string(), timer.milliseconds());
+      return bank;
+    }
+  }
+  if (loadedFromCache) *loadedFromCache = false;
+  try {
+    bank = build(library, options);
+    bank.libraryHash_ = library.contentHash();
+    bank.optionsHash_ = options.hash();
+    bank.save(file);
+  } catch (...) {
+    if (lock >= 0) ::close(lock);
+    throw;
+  }
+  if (lock >= 0) ::close(lock);
   return bank;
 }
 

@@ -17,7 +17,9 @@ const GraphLibrary& library() {
 }
 
 const ExemplarBank& bank() {
-  static const ExemplarBank b = ExemplarBank::build(library());
+  // the build tree's shared cache: built once per test run (the other tests wait on its lock)
+  static const ExemplarBank b = ExemplarBank::loadOrBuild(
+      library(), {}, std::filesystem::path(PS_BINARY_DIR) / "photoscene-cache");
   return b;
 }
 
@@ -147,14 +149,14 @@ TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
   // Issue 5's protocol (canonical patches, random UV rotation and scale, random light color and
   // level; 59 graphs x 5 draws, seed 2024): top-1 >= 60%, category >= 85% asked. Measured with
   // the structure statistics, 10 canonical scales and 3 observed exemplars per draw: 82.0% /
-  // 86.1% exhaustive, 80.3% / 85.8% with the kd-tree index this test uses (6 scales and 2
+  // 86.1% with the exact (linear) index this test uses, 80.3% / 85.8% kd-tree (6 scales and 2
   // observed: 77.6% / 84.1% exhaustive; before the structure statistics 59.7% / 67.1%); on the
   // development seed 777, 78.6% / 85.8% exhaustive. 295 draws: about +-2.3% (top-1) and +-2.0%
-  // (category) one standard deviation. Top-1 is held at the issue's level with margin; category
-  // reaches the issue's 85% but by 2 to 3 draws, so it is held at 83%: seven graphs
-  // (paint_eggshell, _glossy, _matte_wall, paper_white, plastic_glossy, _laminate, _textured)
-  // are the same graph (fbm times a colour) with other fbm scales, which a random UV scale and
-  // light colour make indistinguishable.
+  // (category) one standard deviation. Both are asserted at the issue's levels; category clears
+  // 85% by 3 draws only (the exact index removes the kd-tree's build-to-build variation): seven
+  // graphs (paint_eggshell, _glossy, _matte_wall, paper_white, plastic_glossy, _laminate,
+  // _textured) are the same graph (fbm times a colour) with other fbm scales, which a random UV
+  // scale and light colour make indistinguishable.
   const ExemplarBank& b = bank();
   const ExemplarBankOptions o;
   ASSERT_EQ(b.rows(), library().size() * o.drawsPerGraph *
@@ -162,7 +164,7 @@ TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {
   const SelectionReport r = evaluateSelection(b, library(), o);
   std::printf("%s", r.table().c_str());
   EXPECT_GE(r.top1Accuracy(), 0.75);
-  EXPECT_GE(r.categoryAccuracy(), 0.83);
+  EXPECT_GE(r.categoryAccuracy(), 0.85);
 }
 
 TEST(Select_Bank, observed_parts_select_their_graph_and_category) {
