@@ -140,6 +140,11 @@ cv::Mat readDataImage(const fs::path& path) {
 }
 
 cv::Mat readLabelImage(const fs::path& path) {
+  // The contract's label images are 8- or 16-bit PNGs (lossless: a lossy format would invent
+  // labels along every edge). Checked before decoding: the label_image fuzzer found a file named
+  // .png whose bytes OpenImageIO decoded as WebP, slowly.
+  if (const std::string format = openInput(path)->format_name(); format != "png")
+    throw InputError(path.string(), "", "expected an 8- or 16-bit PNG label image, got a " + format + " file");
   ImageInfo info;
   cv::Mat raw = readRaw(path, &info);
   if (info.isFloat || (raw.depth() != CV_8U && raw.depth() != CV_16U))
