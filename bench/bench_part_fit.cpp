@@ -3,11 +3,14 @@
 // distance, mean-albedo error, UV rotation / scale error against the truth) and, with --plot,
 // draws error against seconds into a PNG (OpenCV imgproc, no Python).
 //
-//   ps_bench_part_fit [presets (comma list, default fast,balanced)] [graphs (default wood_planks,tile_checker)]
+//   ps_bench_part_fit [presets (comma list, default fast,balanced)] [graphs (default
+//   wood_planks,tile_checker)]
 //                     [--iters 30,60,120 (budgets; 0 = the preset's own; default 0)]
 //                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
 //                     [--set "key=value;..." (PartFitOptions fields after the preset)]
-//                     [--plot file.png] [--csv file.csv] [--add-csv earlier.csv (rows added to the plot)]
+//                     [--start-truth (start from the true UV transform)]
+//                     [--plot file.png] [--csv file.csv] [--add-csv earlier.csv (rows added to the
+//                     plot)]
 //
 // "seconds" is wall time of fitPart, "cpu" the process CPU time over the same call (with one
 // thread, the number to compare on a loaded machine).
@@ -154,6 +157,8 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
     else if (k == "fineIterations") o.fineIterations = i;
     else if (k == "minLevelPixels") o.minLevelPixels = i;
     else if (k == "searchKeep") o.searchKeep = i;
+    else if (k == "spectrumScaleWindow")
+      o.spectrumScaleWindow = static_cast<float>(v);
     else if (k == "plateauWindow") o.plateau.window = i;
     else if (k == "plateauMinIterations") o.plateau.minIterations = i;
     else if (k == "plateauRel") o.plateau.minRelativeImprovement = v;
@@ -172,6 +177,7 @@ int main(int argc, char** argv) {
   std::vector<float> lights = {12.0f, 30.0f};
   int W = 160, H = 120, threads = 1;
   std::string plotPath, csvPath, overrides, extraCsv;
+  bool startTruth = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -197,6 +203,8 @@ int main(int argc, char** argv) {
       extraCsv = next();
     } else if (a == "--set") {
       overrides = next();
+    } else if (a == "--start-truth") {
+      startTruth = true;
     } else if (a == "--csv") {
       csvPath = next();
     } else {
@@ -259,7 +267,8 @@ int main(int argc, char** argv) {
           z.maxIterations = 0;
           const PartFitResult atTruth = fitPart(truth, geo, photo, target, z, uvTrue);
           const std::clock_t c0 = std::clock();
-          const PartFitResult r = fitPart(lib.get(gname), geo, photo, target, o);
+          const PartFitResult r =
+              fitPart(lib.get(gname), geo, photo, target, o, startTruth ? uvTrue : UvParams{});
           const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
           MaterialGraph fitted = lib.create(gname);
           fitted.setValues(r.values);
@@ -286,6 +295,12 @@ int main(int argc, char** argv) {
           std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
                       gname.c_str(), light, preset.c_str(), row.budget, row.seconds, row.cpu, r.searchSeconds, row.iterations, r.coarseIterations,
                       row.candidates, row.texStart, row.texEnd, row.atTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+          std::fprintf(stderr,
+                       "  spectral prior: ok %d, response %.3f, scale ratio %.3f, rotation %.1f "
+                       "deg mod 180\n",
+                       r.spectrum.ok, r.spectrum.response,
+                       std::exp(r.spectrum.logScale - uvTrue.logScale),
+                       degrees(r.spectrum.rotation));
           std::fflush(stdout);
         }
     }

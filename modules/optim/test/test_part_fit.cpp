@@ -189,7 +189,7 @@ TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differ
   EXPECT_LT(worst, 5e-2);
 }
 
-// Shared by the recovery test and the (disabled) scale test: one synthetic part, one fit.
+// Shared by the recovery test and the scale test: one synthetic part, one fit.
 struct Recovery {
   double texDrop = 0, rotDeg = 0, scaleRatio = 0;
   cv::Scalar meanFit, meanTrue;
@@ -230,6 +230,8 @@ Recovery runRecovery() {
   rotDeg = std::fmod(std::fmod(rotDeg, 180.0) + 270.0, 180.0) - 90.0;  // planks: symmetric under 180 degrees
   const double scaleRatio = std::exp(r.uv.logScale - uvTrue.logScale);
   const double texDrop = 1.0 - r.lossTexture / r.initialTextureLoss;
+  std::printf("spectral prior: ok %d, response %.3f, scale ratio %.3f\n", r.spectrum.ok,
+              r.spectrum.response, std::exp(r.spectrum.logScale - uvTrue.logScale));
   std::printf("fit: %d it, %d searches (%d candidates), %.2f s; texture loss %.4f -> %.4f (drop %.0f%%)\n",
               r.iterations, r.searches, r.candidates, r.seconds, r.initialTextureLoss, r.lossTexture, 100 * texDrop);
   std::printf("mean albedo fit (%.3f %.3f %.3f) truth (%.3f %.3f %.3f); rotation error %.1f deg; scale ratio %.3f; roughness %.3f\n",
@@ -251,14 +253,11 @@ TEST(Optim_PartFit, recovers_known_material_and_uv_rotation) {
   EXPECT_LT(std::abs(r.rotDeg), 5.0);
 }
 
-// Issue 4's 15% UV-scale target: NOT met, so disabled (run it with
-// --gtest_also_run_disabled_tests). It passed (ratio 1.026 with `fast`, 0.851 with `balanced`) with
-// the photo the path tracer made before its stratified sampler and shadow-ray fix; with the new
-// photo of the same scene the fit lands at 0.700 (`fast`) / 0.692 (`balanced`) with a texture loss
-// below the truth's own (0.0026 / 0.0017 against 0.0029): the texture statistics, not the search,
-// prefer the wider planks (a full-resolution search lands further off, 0.57). So the scale is not
-// pinned by the loss, and a pass here was luck of one noise pattern.
-TEST(Optim_PartFit, DISABLED_recovers_uv_scale_within_15_percent) {
+// Issue 4's 15% UV-scale target. Without the spectral prior (spectrumScaleWindow = 0) the fit
+// lands at 0.700 (`fast`) / 0.692 (`balanced`) with a texture loss below the truth's own: at the
+// graph's default parameters the search's best match is the wrong plank width, and the
+// parameters then adapt to it. The photo's spectrum against the graph's reads the scale directly.
+TEST(Optim_PartFit, recovers_uv_scale_within_15_percent) {
   const Recovery r = runRecovery();
   EXPECT_NEAR(r.scaleRatio, 1.0, 0.15);
 }

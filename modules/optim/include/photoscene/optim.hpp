@@ -3,3 +3,4 @@
 
 #include "photoscene/optim/adam.hpp"
 #include "photoscene/optim/part_fit.hpp"
+#include "photoscene/optim/uv_spectrum.hpp"

@@ -30,6 +30,7 @@
 #include "photoscene/features/texture_loss.hpp"
 #include "photoscene/graph/material_graph.hpp"
 #include "photoscene/optim/adam.hpp"
+#include "photoscene/optim/uv_spectrum.hpp"
 #include "photoscene/render/render_layer.hpp"
 
 namespace ps {
@@ -48,6 +49,14 @@ struct PartFitOptions {
   int searchOffsets = 1;           ///< n x n offsets over [0, 1)^2 (1: keep the current offset)
   float logScaleMin = -1.6f, logScaleMax = 1.6f;
   int refineSteps = 2;             ///< coarse-to-fine: halvings of the search steps around the best
+  /// The spectral prior (optim/uv_spectrum.hpp): before the first search the UV scale is read from
+  /// the photo's spectrum against the graph's (default-parameter) albedo; where that estimate is
+  /// clear, the searches try only log-scales within +-spectrumScaleWindow of it (3 of them, then
+  /// the refinement), every rotation as before, and Adam keeps the log-scale within that window.
+  /// 0 = off: the whole [logScaleMin, logScaleMax] grid.
+  /// The texture statistics alone can prefer a wrong period at the default parameters (wider
+  /// planks with faint gaps), and the fit then adapts the parameters to it.
+  float spectrumScaleWindow = 0.1f;
   int specularSub = 1;             ///< the layer's specularSub during the Adam iterations
   int searchSpecularSub = 1;       ///< the layer's specularSub during searches (cheaper)
   /// Coarse to fine in image space: the part is also seen at 1/2, 1/4, ... of the photo's
@@ -90,6 +99,7 @@ struct PartFitResult {
   double seconds = 0;
   double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
+  UvSpectrumEstimate spectrum;  ///< the spectral prior's estimate (ok false: not used)
   /// loss per iteration of the continued start, at the resolution that iteration ran at (the
   /// coarse iterations' losses are not comparable with the fine ones')
   std::vector<double> history;
