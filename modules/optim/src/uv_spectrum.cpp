@@ -46,7 +46,7 @@ cv::Mat logPolar(const cv::Mat& spec, int L) {
   const int M = spec.rows;
   cv::Mat lp;
   cv::warpPolar(spec, lp, cv::Size(L, L), cv::Point2f(M / 2.0f, M / 2.0f), M / 2.0,
-                cv::INTER_LINEAR | cv::WARP_POLAR_LOG);
+                static_cast<int>(cv::INTER_LINEAR) | static_cast<int>(cv::WARP_POLAR_LOG));
   cv::Mat colMean, rowMean;
   cv::reduce(lp, colMean, 0, cv::REDUCE_AVG);
   for (int y = 0; y < lp.rows; ++y) lp.row(y) -= colMean;
