@@ -9,6 +9,7 @@
 //                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
 //                     [--set "key=value;..." (PartFitOptions fields after the preset)]
 //                     [--start-truth (start from the true UV transform)]
+//                     [--renders DIR (writes <graph>_<light>_photo.png and <graph>_<light>_<preset>_<budget>.png)]
 //                     [--plot file.png] [--csv file.csv] [--add-csv earlier.csv (rows added to the
 //                     plot)]
 //
@@ -178,6 +179,7 @@ int main(int argc, char** argv) {
   int W = 160, H = 120, threads = 1;
   std::string plotPath, csvPath, overrides, extraCsv;
   bool startTruth = false;
+  std::string renderDir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -203,6 +205,8 @@ int main(int argc, char** argv) {
       extraCsv = next();
     } else if (a == "--set") {
       overrides = next();
+    } else if (a == "--renders") {
+      renderDir = next();
     } else if (a == "--start-truth") {
       startTruth = true;
     } else if (a == "--csv") {
@@ -258,6 +262,8 @@ int main(int argc, char** argv) {
                                                    view.gbuffer.mask[room.floor], room.floor);
       const TextureLossTarget target(photo, view.gbuffer.mask[room.floor]);
       std::fprintf(stderr, "%s light %g: %dx%d, part of %d pixels\n", gname.c_str(), light, W, H, geo.size());
+      const std::string stem = renderDir + "/" + gname + "_" + std::to_string(static_cast<int>(light));
+      if (!renderDir.empty()) io::writeImage(stem + "_photo.png", photo);
       for (const std::string& preset : presets)
         for (int budget : budgets) {
           PartFitOptions o = PartFitOptions::preset(preset);
@@ -270,6 +276,8 @@ int main(int argc, char** argv) {
           const PartFitResult r =
               fitPart(lib.get(gname), geo, photo, target, o, startTruth ? uvTrue : UvParams{});
           const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+          if (!renderDir.empty())
+            io::writeImage(stem + "_" + preset + "_" + std::to_string(o.maxIterations) + ".png", r.render);
           MaterialGraph fitted = lib.create(gname);
           fitted.setValues(r.values);
           const cv::Scalar mf = cv::mean(fitted.evaluate(256, MapSet::of({MapKind::Albedo})).albedo), mt = cv::mean(tm.albedo);

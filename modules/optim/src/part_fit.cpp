@@ -30,6 +30,7 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     o.coarseLevels = 0;
     o.searchLevels = 1;
     o.searchKeep = 16;
+    o.spectrumScaleWindow = 0.0f;  // the paper's whole scale grid, no spectral prior
   } else if (name == "balanced") {
     // chosen with ps_bench_part_fit (modules/optim/README.md): most steps and the search's ranking
     // at lower resolution, the last 30 steps at full resolution
@@ -279,6 +280,14 @@ class PartFitter {
             uv.offset = o_.searchOffsets > 1 ? Vec2f(float(a) / o_.searchOffsets, float(b) / o_.searchOffsets) : s.uv.offset;
             grid.emplace_back(loss(searchLevel_, uv), uv);
           }
+    if (prior)  // the spectrum's rotation (known modulo 180 degrees; tiles repeat every 90) at each scale
+      for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < nScales; ++j) {
+          UvParams uv = s.uv;
+          uv.rotation = static_cast<float>(spectrum_.rotation + k * kTwoPi / 4);
+          uv.logScale = static_cast<float>(ls0 + j * lsStep);
+          grid.emplace_back(loss(searchLevel_, uv), uv);
+        }
     UvParams best = s.uv;
     double bl = loss(0, s.uv);
     auto tryUv = [&](const UvParams& uv) {

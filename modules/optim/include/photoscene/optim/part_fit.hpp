@@ -80,8 +80,8 @@ struct PartFitOptions {
 
   /// "paper": 1000 iterations, maps 256, 72 rotations x 32 log-scales x 5 x 5 offsets every 50
   /// iterations (the caller renders at 320 x 240; every step at full resolution, the search's grid
-  /// ranked at half resolution and its best 16 compared at full resolution). "balanced", "fast":
-  /// chosen by measurement (modules/optim/README.md).
+  /// ranked at half resolution and its best 16 compared at full resolution; no spectral prior).
+  /// "balanced", "fast": chosen by measurement (modules/optim/README.md), the spectral prior on.
   static PartFitOptions preset(const std::string& name);
   bool IsValid(std::string* error) const;
 };
