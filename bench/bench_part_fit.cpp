@@ -304,9 +304,9 @@ int main(int argc, char** argv) {
                       gname.c_str(), light, preset.c_str(), row.budget, row.seconds, row.cpu, r.searchSeconds, row.iterations, r.coarseIterations,
                       row.candidates, row.texStart, row.texEnd, row.atTruth, row.albedoErr, row.rot, row.rot90, row.scale);
           std::fprintf(stderr,
-                       "  spectral prior: ok %d, response %.3f, scale ratio %.3f, rotation %.1f "
-                       "deg mod 180\n",
-                       r.spectrum.ok, r.spectrum.response,
+                       "  spectral prior (%.3f s): ok %d, response %.3f, scale ratio %.3f, "
+                       "rotation %.1f deg mod 180\n",
+                       r.spectrumSeconds, r.spectrum.ok, r.spectrum.response,
                        std::exp(r.spectrum.logScale - uvTrue.logScale),
                        degrees(r.spectrum.rotation));
           std::fflush(stdout);

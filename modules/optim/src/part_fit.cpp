@@ -465,7 +465,8 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   if (options.spectrumScaleWindow > 0) {
     const Timer st;
     res.spectrum = f.estimateSpectrum(start.values);
-    res.searchSeconds += st.seconds();
+    res.spectrumSeconds = st.seconds();
+    res.searchSeconds += res.spectrumSeconds;
   }
   FitState s = start;
   int remaining = options.maxIterations;

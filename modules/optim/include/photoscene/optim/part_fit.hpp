@@ -100,6 +100,7 @@ struct PartFitResult {
   double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
   UvSpectrumEstimate spectrum;  ///< the spectral prior's estimate (ok false: not used)
+  double spectrumSeconds = 0;   ///< of searchSeconds, in the spectral prior
   /// loss per iteration of the continued start, at the resolution that iteration ran at (the
   /// coarse iterations' losses are not comparable with the fine ones')
   std::vector<double> history;
