@@ -303,6 +303,18 @@ int main(int argc, char** argv) {
           std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
                       gname.c_str(), light, preset.c_str(), row.budget, row.seconds, row.cpu, r.searchSeconds, row.iterations, r.coarseIterations,
                       row.candidates, row.texStart, row.texEnd, row.atTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+          {
+            // one yardstick for every preset: the texture loss of the fitted values and transform
+            // rendered with paper's settings (maps 256, specularSub 2, full resolution)
+            PartFitOptions ev = PartFitOptions::preset("paper");
+            ev.maxIterations = 0;
+            MaterialGraph fittedGraph = lib.create(gname);
+            fittedGraph.setValues(r.values);
+            const double evFit = fitPart(fittedGraph, geo, photo, target, ev, r.uv).initialTextureLoss;
+            const double evTruth = fitPart(truth, geo, photo, target, ev, uvTrue).initialTextureLoss;
+            std::fprintf(stderr, "  common yardstick (maps 256, specularSub 2): texture loss %.5f, truth %.5f\n", evFit,
+                         evTruth);
+          }
           std::fprintf(stderr,
                        "  spectral prior (%.3f s): ok %d, response %.3f, scale ratio %.3f, "
                        "rotation %.1f deg mod 180\n",
