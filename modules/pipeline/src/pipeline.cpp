@@ -58,6 +58,9 @@ namespace pipeline {
 
 // Bump when a stage's algorithm changes so old cache entries are not reused.
 constexpr uint64_t kCacheVersion = 6;
+// The per-part fit's own version (its key, and so the stages after it): 2 = the spectral UV prior
+// and `balanced` at 100 steps.
+constexpr uint64_t kFitVersion = 2;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;
@@ -699,7 +702,7 @@ void stageFit(Context& ctx) {
     PartWork& p = ctx.parts[id];
     const ViewWork& view = ctx.views[p.view];
     Hasher h;
-    h.add(kCacheVersion).add(p.selectKey).add(std::string_view(p.graph)).add(view.incidentKey);
+    h.add(kCacheVersion).add(kFitVersion).add(p.selectKey).add(std::string_view(p.graph)).add(view.incidentKey);
     h.add(std::string_view(ctx.preset)).add(ctx.seed);
     h.add(ctx.options.maxFitIterations.value_or(-1));
     p.fitKey = h.digest();
