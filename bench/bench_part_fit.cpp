@@ -10,11 +10,21 @@
 //                     [--set "key=value;..." (PartFitOptions fields after the preset)]
 //                     [--start-truth (start from the true UV transform)]
 //                     [--renders DIR (writes <graph>_<light>_photo.png and <graph>_<light>_<preset>_<budget>.png)]
+//                     [--checkpoints 50,100,200 (also a row at each of these Adam steps of one run:
+//                     the best state so far, with the time so far; the same as a run with that
+//                     budget only for presets without a coarse phase, i.e. `paper`)]
 //                     [--plot file.png] [--csv file.csv] [--add-csv earlier.csv (rows added to the
 //                     plot)]
 //
 // "seconds" is wall time of fitPart, "cpu" the process CPU time over the same call (with one
 // thread, the number to compare on a loaded machine).
+//
+// Errors against the truth, the same for every preset: each fit (graph values, UV transform, mean
+// roughness) is rendered by the render layer with paper's settings (maps 256, specularSub 2, full
+// resolution), and so is the truth (its own roughness map). "to truth" is the texture-feature
+// distance between the two noise-free renders; "yardstick" the distance from the fit's render to
+// the photo (what the fit minimises, photo noise included: a fit can go below the truth's own value
+// there by fitting the noise); "mean albedo err" compares the graphs' mean albedo at 256.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +37,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core/parallel.hpp"
+#include "photoscene/core/timer.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/io/image_io.hpp"
 #include "photoscene/optim.hpp"
@@ -50,6 +61,7 @@ struct Row {
   float light = 0;
   int budget = 0;
   double seconds = 0, cpu = 0, texStart = 0, texEnd = 0, atTruth = 0, albedoErr = 0, rot = 0, rot90 = 0, scale = 0;
+  double yardstick = 0, toTruth = 0;
   int iterations = 0, candidates = 0;
 };
 
@@ -69,7 +81,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
   const double lx0 = std::floor(std::log10(std::max(1e-3, smin))), lx1 = std::ceil(std::log10(std::max(smax, smin * 1.01)));
   for (int panel = 0; panel < 2; ++panel) {
     double emin = 1e30, emax = 0;
-    auto err = [&](const Row& r) { return std::max(1e-5, panel == 0 ? r.texEnd : r.albedoErr); };
+    auto err = [&](const Row& r) { return std::max(1e-5, panel == 0 ? r.toTruth : r.albedoErr); };
     for (const Row& r : rows) emin = std::min(emin, err(r)), emax = std::max(emax, err(r));
     const double ly0 = std::floor(std::log10(emin)), ly1 = std::ceil(std::log10(emax * 1.01));
     const int ox = left0 + panel * gap, oy = top + panelH;
@@ -90,7 +102,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
       std::snprintf(b, sizeof b, "%g", std::pow(10.0, d));
       cv::putText(img, b, cv::Point(ox - 60, y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     }
-    cv::putText(img, panel == 0 ? "final texture-feature distance" : "mean-albedo error (max over channels)",
+    cv::putText(img, panel == 0 ? "texture-feature distance to the truth" : "mean-albedo error (max over channels)",
                 cv::Point(ox + 60, top - 15), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     cv::putText(img, "CPU seconds per part (one thread)", cv::Point(ox + 130, oy + 40), cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
@@ -174,7 +186,7 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> positional;
-  std::vector<int> budgets = {0};
+  std::vector<int> budgets = {0}, checkpoints;
   std::vector<float> lights = {12.0f, 30.0f};
   int W = 160, H = 120, threads = 1;
   std::string plotPath, csvPath, overrides, extraCsv;
@@ -192,6 +204,8 @@ int main(int argc, char** argv) {
     if (a == "--iters") {
       budgets.clear();
       for (const std::string& s : split(next())) budgets.push_back(std::stoi(s));
+    } else if (a == "--checkpoints") {
+      for (const std::string& s : split(next())) checkpoints.push_back(std::stoi(s));
     } else if (a == "--lights") {
       lights.clear();
       for (const std::string& s : split(next())) lights.push_back(std::stof(s));
@@ -220,8 +234,8 @@ int main(int argc, char** argv) {
   const ThreadLimit limit(threads);
   const GraphLibrary lib = GraphLibrary::load();
   std::vector<Row> rows;
-  std::printf("| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | candidates | texture loss start -> end | at truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | candidates | texture loss start -> end | at truth | yardstick | to truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& gname : graphs)
     for (float light : lights) {
       MaterialGraph truth = lib.create(gname);
@@ -264,6 +278,55 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s light %g: %dx%d, part of %d pixels\n", gname.c_str(), light, W, H, geo.size());
       const std::string stem = renderDir + "/" + gname + "_" + std::to_string(static_cast<int>(light));
       if (!renderDir.empty()) io::writeImage(stem + "_photo.png", photo);
+      // the truth rendered noise-free with the yardstick's settings, and its texture-loss target
+      const cv::Mat& mask = view.gbuffer.mask[room.floor];
+      auto renderAt = [&](const MaterialMaps& mm, const cv::Mat& roughness, const UvParams& uv) {
+        RenderLayerParams p;
+        p.geometry = &geo;
+        p.albedo = mm.albedo;
+        p.normal = mm.normal;
+        p.roughness = roughness;
+        p.uv = uv;
+        p.specularSub = 2;
+        renderLayerForward(p);
+        return p.image;
+      };
+      auto textureDistance = [](const TextureLossTarget& t, const cv::Mat& render) {
+        TextureLossParams tp;
+        tp.target = &t;
+        tp.render = render;
+        return textureLossForward(tp);
+      };
+      const cv::Mat truthRender = renderAt(tm, tm.roughness, uvTrue);
+      const TextureLossTarget truthTarget(truthRender, mask);
+      const double truthYardstick = textureDistance(target, truthRender);
+      // one row's errors from a fitted state (values, transform, mean roughness)
+      auto measure = [&](Row& row, const std::vector<float>& values, const UvParams& uv, float roughness) {
+        MaterialGraph fitted = lib.create(gname);
+        fitted.setValues(values);
+        const MaterialMaps fm = fitted.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+        cv::Mat rough = fm.roughness.clone();
+        const double mr = cv::mean(rough)[0];
+        if (mr > 1e-4) rough *= roughness / mr;
+        else rough.setTo(roughness);
+        const cv::Mat render = renderAt(fm, rough, uv);
+        row.yardstick = textureDistance(target, render);
+        row.toTruth = textureDistance(truthTarget, render);
+        const cv::Scalar mf = cv::mean(fm.albedo), mt = cv::mean(tm.albedo);
+        row.albedoErr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
+        double rot = degrees(uv.rotation - uvTrue.rotation);
+        rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
+        row.rot = rot;
+        row.rot90 = std::fmod(std::fmod(rot, 90.0) + 135.0, 90.0) - 45.0;  // square tiles
+        row.scale = std::exp(uv.logScale - uvTrue.logScale);
+      };
+      auto print = [&](const Row& row, double searchSeconds, int coarse) {
+        std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
+                    row.graph.c_str(), row.light, row.preset.c_str(), row.budget, row.seconds, row.cpu, searchSeconds,
+                    row.iterations, coarse, row.candidates, row.texStart, row.texEnd, row.atTruth, row.yardstick,
+                    row.toTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+        std::fflush(stdout);
+      };
       for (const std::string& preset : presets)
         for (int budget : budgets) {
           PartFitOptions o = PartFitOptions::preset(preset);
@@ -272,65 +335,65 @@ int main(int argc, char** argv) {
           PartFitOptions z = o;
           z.maxIterations = 0;
           const PartFitResult atTruth = fitPart(truth, geo, photo, target, z, uvTrue);
-          const std::clock_t c0 = std::clock();
-          const PartFitResult r =
-              fitPart(lib.get(gname), geo, photo, target, o, startTruth ? uvTrue : UvParams{});
-          const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-          if (!renderDir.empty())
-            io::writeImage(stem + "_" + preset + "_" + std::to_string(o.maxIterations) + ".png", r.render);
-          MaterialGraph fitted = lib.create(gname);
-          fitted.setValues(r.values);
-          const cv::Scalar mf = cv::mean(fitted.evaluate(256, MapSet::of({MapKind::Albedo})).albedo), mt = cv::mean(tm.albedo);
           Row row;
           row.graph = gname;
           row.preset = preset;
           row.light = light;
+          row.texStart = std::nan("");  // known after the fit
+          row.atTruth = atTruth.initialTextureLoss;
+          // checkpoints: the best state so far at the listed steps, measured and printed at once
+          // (a long run can be stopped); the measuring time is left out of the times
+          const Timer wall;
+          const std::clock_t c0 = std::clock();
+          double pausedWall = 0;
+          std::clock_t pausedCpu = 0;
+          o.onIteration = [&](const PartFitProgress& pr) {
+            if (std::find(checkpoints.begin(), checkpoints.end(), pr.iteration) == checkpoints.end()) return true;
+            const Timer pause;
+            const std::clock_t p0 = std::clock();
+            Row c = row;
+            c.budget = c.iterations = pr.iteration;
+            c.seconds = wall.seconds() - pausedWall;
+            c.cpu = static_cast<double>(std::clock() - c0 - pausedCpu) / CLOCKS_PER_SEC;
+            c.texEnd = std::nan("");
+            measure(c, pr.values, pr.uv, pr.roughness);
+            rows.push_back(c);
+            print(c, std::nan(""), 0);
+            pausedWall += pause.seconds();
+            pausedCpu += std::clock() - p0;
+            return true;
+          };
+          const PartFitResult r =
+              fitPart(lib.get(gname), geo, photo, target, o, startTruth ? uvTrue : UvParams{});
+          const double cpu = static_cast<double>(std::clock() - c0 - pausedCpu) / CLOCKS_PER_SEC;
+          if (!renderDir.empty())
+            io::writeImage(stem + "_" + preset + "_" + std::to_string(o.maxIterations) + ".png", r.render);
+          row.texStart = r.initialTextureLoss;
           row.budget = o.maxIterations;
-          row.seconds = r.seconds;
+          row.seconds = r.seconds - pausedWall;
           row.cpu = cpu;
           row.iterations = r.iterations;
           row.candidates = r.candidates;
-          row.texStart = r.initialTextureLoss;
           row.texEnd = r.lossTexture;
-          row.atTruth = atTruth.initialTextureLoss;
-          row.albedoErr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
-          double rot = degrees(r.uv.rotation - uvTrue.rotation);
-          rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
-          row.rot = rot;
-          row.rot90 = std::fmod(std::fmod(rot, 90.0) + 135.0, 90.0) - 45.0;  // square tiles
-          row.scale = std::exp(r.uv.logScale - uvTrue.logScale);
+          measure(row, r.values, r.uv, r.roughness);
           rows.push_back(row);
-          std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
-                      gname.c_str(), light, preset.c_str(), row.budget, row.seconds, row.cpu, r.searchSeconds, row.iterations, r.coarseIterations,
-                      row.candidates, row.texStart, row.texEnd, row.atTruth, row.albedoErr, row.rot, row.rot90, row.scale);
-          {
-            // one yardstick for every preset: the texture loss of the fitted values and transform
-            // rendered with paper's settings (maps 256, specularSub 2, full resolution)
-            PartFitOptions ev = PartFitOptions::preset("paper");
-            ev.maxIterations = 0;
-            MaterialGraph fittedGraph = lib.create(gname);
-            fittedGraph.setValues(r.values);
-            const double evFit = fitPart(fittedGraph, geo, photo, target, ev, r.uv).initialTextureLoss;
-            const double evTruth = fitPart(truth, geo, photo, target, ev, uvTrue).initialTextureLoss;
-            std::fprintf(stderr, "  common yardstick (maps 256, specularSub 2): texture loss %.5f, truth %.5f\n", evFit,
-                         evTruth);
-          }
+          print(row, r.searchSeconds, r.coarseIterations);
+          std::fprintf(stderr, "  truth: yardstick %.5f (its distance to the photo's noise)\n", truthYardstick);
           std::fprintf(stderr,
                        "  spectral prior (%.3f s): ok %d, response %.3f, scale ratio %.3f, "
                        "rotation %.1f deg mod 180\n",
                        r.spectrumSeconds, r.spectrum.ok, r.spectrum.response,
                        std::exp(r.spectrum.logScale - uvTrue.logScale),
                        degrees(r.spectrum.rotation));
-          std::fflush(stdout);
         }
     }
   if (!csvPath.empty()) {
     if (FILE* f = std::fopen(csvPath.c_str(), "w")) {
-      std::fprintf(f, "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,at_truth,albedo_err,rot,rot90,scale\n");
+      std::fprintf(f, "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,at_truth,albedo_err,rot,rot90,scale,yardstick,to_truth\n");
       for (const Row& r : rows)
-        std::fprintf(f, "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f\n", r.graph.c_str(), r.light,
-                     r.preset.c_str(), r.budget, r.seconds, r.cpu, r.iterations, r.candidates, r.texStart, r.texEnd,
-                     r.atTruth, r.albedoErr, r.rot, r.rot90, r.scale);
+        std::fprintf(f, "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f,%.5f,%.5f\n", r.graph.c_str(),
+                     r.light, r.preset.c_str(), r.budget, r.seconds, r.cpu, r.iterations, r.candidates, r.texStart,
+                     r.texEnd, r.atTruth, r.albedoErr, r.rot, r.rot90, r.scale, r.yardstick, r.toTruth);
       std::fclose(f);
     }
   }
@@ -345,7 +408,7 @@ int main(int argc, char** argv) {
           continue;
         }
         const std::vector<std::string> v = split(std::string(line));
-        if (v.size() < 15) continue;
+        if (v.size() < 17) continue;  // older files have no errors against the truth
         Row r;
         r.graph = v[0];
         r.light = std::stof(v[1]);
@@ -362,6 +425,8 @@ int main(int argc, char** argv) {
         r.rot = std::stod(v[12]);
         r.rot90 = std::stod(v[13]);
         r.scale = std::stod(v[14]);
+        r.yardstick = std::stod(v[15]);
+        r.toTruth = std::stod(v[16]);
         rows.push_back(r);
       }
       std::fclose(f);

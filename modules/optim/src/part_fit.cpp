@@ -401,6 +401,19 @@ class PartFitter {
       adam.step(x, grad);
       unpack(s);
       ++res.iterations;
+      if (o_.onIteration) {
+        PartFitProgress pr;
+        pr.iteration = res.iterations;
+        pr.level = level;
+        pr.loss = e.loss;
+        pr.values = best.values;
+        pr.uv = best.uv;
+        pr.roughness = best.roughness;
+        if (!o_.onIteration(pr)) {
+          res.cancelled = true;
+          break;
+        }
+      }
     }
     s = best;
     return bestLoss;
@@ -480,6 +493,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
       if (r > 0) p.values = graph.randomValues(options.seed + 7919 * r, options.restartSpread);
       const double l = f.run(p, options.restartProbeIterations, true, true, coarse, res, false);
       if (l < bestProbe) bestProbe = l, bestState = p;
+      if (res.cancelled) break;
     }
     s = bestState;
     remaining -= options.restartProbeIterations;
@@ -488,10 +502,10 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     // coarse to fine: the searches and most steps on the downsampled part, the last steps at full
     // resolution from the coarse phase's best state
     const int fine = std::min(remaining, options.fineIterations);
-    if (remaining > fine) f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
+    if (remaining > fine && !res.cancelled) f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
     res.coarseIterations = static_cast<int>(res.history.size());
-    if (fine > 0) f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
-  } else {
+    if (fine > 0 && !res.cancelled) f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
+  } else if (!res.cancelled) {
     f.run(s, remaining, options.restarts == 0, true, 0, res, true);
   }
   const PartFitter::Eval e = f.evaluate(0, f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);

@@ -257,6 +257,50 @@ TEST(Optim_PartFit, recovers_known_material_and_uv_rotation) {
 // lands at 0.700 (`fast`) / 0.692 (`balanced`) with a texture loss below the truth's own: at the
 // graph's default parameters the search's best match is the wrong plank width, and the
 // parameters then adapt to it. The photo's spectrum against the graph's reads the scale directly.
+TEST(Optim_PartFit, on_iteration_sees_every_step_and_stops_the_fit_when_asked) {
+  const GraphLibrary lib = GraphLibrary::load();
+  MaterialGraph truth = lib.create("wood_planks");
+  truth.setValues(truthValues(truth, 5, 0.3f));
+  UvParams uv;
+  uv.logScale = std::log(0.5f);
+  Synthetic s = makeSynthetic(truth, uv, 64, 48, 16, 8, 4);
+  const Room& room = s.room;
+  const PartGeometry geo = preparePartGeometry(s.view.gbuffer, room.camera.position().cast<float>(), s.view.grid,
+                                               s.view.gbuffer.mask[room.floor], room.floor);
+  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[room.floor]);
+  for (const int stopAt : {0, 7}) {
+    PartFitOptions o = PartFitOptions::preset("fast");
+    o.maxIterations = 30;
+    o.plateau.minIterations = 1000;  // every step runs unless stopped
+    std::vector<PartFitProgress> seen;
+    o.onIteration = [&](const PartFitProgress& p) {
+      seen.push_back(p);
+      return p.iteration != stopAt;
+    };
+    const PartFitResult r = fitPart(lib.get("wood_planks"), geo, s.photo, target, o);
+    const int expected = stopAt > 0 ? stopAt : o.maxIterations;
+    EXPECT_EQ(r.cancelled, stopAt > 0);
+    ASSERT_EQ(static_cast<int>(seen.size()), expected);
+    EXPECT_EQ(r.iterations, expected);
+    ASSERT_EQ(static_cast<int>(r.history.size()), expected);
+    for (int i = 0; i < expected; ++i) {
+      EXPECT_EQ(seen[i].iteration, i + 1);
+      EXPECT_DOUBLE_EQ(seen[i].loss, r.history[i]);  // the step's loss, at its level
+      EXPECT_TRUE(std::isfinite(seen[i].loss));
+    }
+    if (stopAt > 0) {
+      // stopped: the fit returns the best state the last report showed, and no finer phase ran
+      EXPECT_EQ(r.values, seen.back().values);
+      EXPECT_EQ(r.uv.logScale, seen.back().uv.logScale);
+      EXPECT_EQ(r.roughness, seen.back().roughness);
+      EXPECT_EQ(seen.back().level, r.coarseIterations > 0 ? 1 : 0);
+    } else {
+      EXPECT_EQ(seen.back().level, 0);  // the last steps at full resolution
+    }
+    EXPECT_TRUE(std::isfinite(r.loss));
+  }
+}
+
 TEST(Optim_PartFit, recovers_uv_scale_within_15_percent) {
   const Recovery r = runRecovery();
   EXPECT_NEAR(r.scaleRatio, 1.0, 0.15);

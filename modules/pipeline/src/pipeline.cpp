@@ -747,8 +747,11 @@ void stageFit(Context& ctx) {
       PartFitOptions o = ctx.fitOptions;
       o.seed = partSeed(ctx, p.name);
       if (ctx.options.maxFitIterations) o.maxIterations = std::min(o.maxIterations, *ctx.options.maxFitIterations);
+      // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
+      o.onIteration = [](const PartFitProgress&) { return !interruptRequested(); };
       const TextureLossTarget target(photo, mask);
       const PartFitResult r = fitPart(ctx.library->get(p.graph), geo, photo, target, o);
+      if (r.cancelled) return;  // not a result: nothing is stored, checkInterrupted below throws
       if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
         // photo over the fitted mask | the fit's render, for looking at what the fit did
         cv::Mat masked = cv::Mat::zeros(photo.size(), CV_32FC3), side;

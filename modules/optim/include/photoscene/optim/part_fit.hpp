@@ -22,6 +22,7 @@
 //                                     ps::PartFitOptions::preset("balanced"));
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,17 @@
 #include "photoscene/render/render_layer.hpp"
 
 namespace ps {
+
+/// What `PartFitOptions::onIteration` sees after each Adam step.
+struct PartFitProgress {
+  int iteration = 0;           ///< Adam steps taken so far (all starts and levels)
+  int level = 0;               ///< image-pyramid level the step ran at (0: full resolution)
+  double loss = 0;             ///< the step's loss (at that level)
+  /// the best state of the current phase (what fitPart would return if stopped here)
+  std::vector<float> values;
+  UvParams uv;
+  float roughness = 0.5f;
+};
 
 struct PartFitOptions {
   int maxIterations = 300;
@@ -77,6 +89,10 @@ struct PartFitOptions {
   int restartProbeIterations = 30; ///< iterations each start gets before the best is continued
   float restartSpread = 0.5f;
   uint64_t seed = 1;
+  /// Called after every Adam step (progress bars, checkpoints, cancellation); returning false
+  /// stops the fit there, with the best state so far and PartFitResult::cancelled set. Not part
+  /// of what a preset decides, and not a fit parameter (a fit's cache key leaves it out).
+  std::function<bool(const PartFitProgress&)> onIteration;
 
   /// "paper": 1000 iterations, maps 256, 72 rotations x 32 log-scales x 5 x 5 offsets every 50
   /// iterations (the caller renders at 320 x 240; every step at full resolution, the search's grid
@@ -99,6 +115,7 @@ struct PartFitResult {
   double seconds = 0;
   double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
+  bool cancelled = false;          ///< onIteration returned false
   UvSpectrumEstimate spectrum;  ///< the spectral prior's estimate (ok false: not used)
   double spectrumSeconds = 0;   ///< of searchSeconds, in the spectral prior
   /// loss per iteration of the continued start, at the resolution that iteration ran at (the
