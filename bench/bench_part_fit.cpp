@@ -9,7 +9,8 @@
 //                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
 //                     [--set "key=value;..." (PartFitOptions fields after the preset)]
 //                     [--start-truth (start from the true UV transform)]
-//                     [--renders DIR (writes <graph>_<light>_photo.png and <graph>_<light>_<preset>_<budget>.png)]
+//                     [--renders DIR (writes <graph>_<light>_photo.png and
+//                     <graph>_<light>_<preset>_<budget>.png)]
 //                     [--checkpoints 50,100,200 (also a row at each of these Adam steps of one run:
 //                     the best state so far, with the time so far; the same as a run with that
 //                     budget only for presets without a coarse phase, i.e. `paper`)]
@@ -102,8 +103,11 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
       std::snprintf(b, sizeof b, "%g", std::pow(10.0, d));
       cv::putText(img, b, cv::Point(ox - 60, y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     }
-    cv::putText(img, panel == 0 ? "texture-feature distance to the truth" : "mean-albedo error (max over channels)",
-                cv::Point(ox + 60, top - 15), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(img,
+                panel == 0 ? "texture-feature distance to the truth"
+                           : "mean-albedo error (max over channels)",
+                cv::Point(ox + 60, top - 15), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0),
+                1, cv::LINE_AA);
     cv::putText(img, "CPU seconds per part (one thread)", cv::Point(ox + 130, oy + 40), cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     // one polyline per (graph, light, preset) through its budgets
@@ -234,7 +238,10 @@ int main(int argc, char** argv) {
   const ThreadLimit limit(threads);
   const GraphLibrary lib = GraphLibrary::load();
   std::vector<Row> rows;
-  std::printf("| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | candidates | texture loss start -> end | at truth | yardstick | to truth | mean albedo err | rot err (deg, mod 180) | mod 90 | scale ratio |\n");
+  std::printf(
+      "| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | "
+      "candidates | texture loss start -> end | at truth | yardstick | to truth | mean albedo err "
+      "| rot err (deg, mod 180) | mod 90 | scale ratio |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& gname : graphs)
     for (float light : lights) {
@@ -301,19 +308,24 @@ int main(int argc, char** argv) {
       const TextureLossTarget truthTarget(truthRender, mask);
       const double truthYardstick = textureDistance(target, truthRender);
       // one row's errors from a fitted state (values, transform, mean roughness)
-      auto measure = [&](Row& row, const std::vector<float>& values, const UvParams& uv, float roughness) {
+      auto measure = [&](Row& row, const std::vector<float>& values, const UvParams& uv,
+                         float roughness) {
         MaterialGraph fitted = lib.create(gname);
         fitted.setValues(values);
-        const MaterialMaps fm = fitted.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+        const MaterialMaps fm = fitted.evaluate(
+            256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
         cv::Mat rough = fm.roughness.clone();
         const double mr = cv::mean(rough)[0];
-        if (mr > 1e-4) rough *= roughness / mr;
-        else rough.setTo(roughness);
+        if (mr > 1e-4)
+          rough *= roughness / mr;
+        else
+          rough.setTo(roughness);
         const cv::Mat render = renderAt(fm, rough, uv);
         row.yardstick = textureDistance(target, render);
         row.toTruth = textureDistance(truthTarget, render);
         const cv::Scalar mf = cv::mean(fm.albedo), mt = cv::mean(tm.albedo);
-        row.albedoErr = std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
+        row.albedoErr =
+            std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
         double rot = degrees(uv.rotation - uvTrue.rotation);
         rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
         row.rot = rot;
@@ -321,10 +333,12 @@ int main(int argc, char** argv) {
         row.scale = std::exp(uv.logScale - uvTrue.logScale);
       };
       auto print = [&](const Row& row, double searchSeconds, int coarse) {
-        std::printf("| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | %.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
-                    row.graph.c_str(), row.light, row.preset.c_str(), row.budget, row.seconds, row.cpu, searchSeconds,
-                    row.iterations, coarse, row.candidates, row.texStart, row.texEnd, row.atTruth, row.yardstick,
-                    row.toTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+        std::printf(
+            "| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | "
+            "%.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
+            row.graph.c_str(), row.light, row.preset.c_str(), row.budget, row.seconds, row.cpu,
+            searchSeconds, row.iterations, coarse, row.candidates, row.texStart, row.texEnd,
+            row.atTruth, row.yardstick, row.toTruth, row.albedoErr, row.rot, row.rot90, row.scale);
         std::fflush(stdout);
       };
       for (const std::string& preset : presets)
@@ -348,7 +362,9 @@ int main(int argc, char** argv) {
           double pausedWall = 0;
           std::clock_t pausedCpu = 0;
           o.onIteration = [&](const PartFitProgress& pr) {
-            if (std::find(checkpoints.begin(), checkpoints.end(), pr.iteration) == checkpoints.end()) return true;
+            if (std::find(checkpoints.begin(), checkpoints.end(), pr.iteration) ==
+                checkpoints.end())
+              return true;
             const Timer pause;
             const std::clock_t p0 = std::clock();
             Row c = row;
@@ -378,7 +394,8 @@ int main(int argc, char** argv) {
           measure(row, r.values, r.uv, r.roughness);
           rows.push_back(row);
           print(row, r.searchSeconds, r.coarseIterations);
-          std::fprintf(stderr, "  truth: yardstick %.5f (its distance to the photo's noise)\n", truthYardstick);
+          std::fprintf(stderr, "  truth: yardstick %.5f (its distance to the photo's noise)\n",
+                       truthYardstick);
           std::fprintf(stderr,
                        "  spectral prior (%.3f s): ok %d, response %.3f, scale ratio %.3f, "
                        "rotation %.1f deg mod 180\n",
@@ -389,11 +406,15 @@ int main(int argc, char** argv) {
     }
   if (!csvPath.empty()) {
     if (FILE* f = std::fopen(csvPath.c_str(), "w")) {
-      std::fprintf(f, "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,at_truth,albedo_err,rot,rot90,scale,yardstick,to_truth\n");
+      std::fprintf(f,
+                   "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,"
+                   "at_truth,albedo_err,rot,rot90,scale,yardstick,to_truth\n");
       for (const Row& r : rows)
-        std::fprintf(f, "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f,%.5f,%.5f\n", r.graph.c_str(),
-                     r.light, r.preset.c_str(), r.budget, r.seconds, r.cpu, r.iterations, r.candidates, r.texStart,
-                     r.texEnd, r.atTruth, r.albedoErr, r.rot, r.rot90, r.scale, r.yardstick, r.toTruth);
+        std::fprintf(f,
+                     "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f,%.5f,%.5f\n",
+                     r.graph.c_str(), r.light, r.preset.c_str(), r.budget, r.seconds, r.cpu,
+                     r.iterations, r.candidates, r.texStart, r.texEnd, r.atTruth, r.albedoErr,
+                     r.rot, r.rot90, r.scale, r.yardstick, r.toTruth);
       std::fclose(f);
     }
   }

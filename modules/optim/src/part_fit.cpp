@@ -502,9 +502,11 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     // coarse to fine: the searches and most steps on the downsampled part, the last steps at full
     // resolution from the coarse phase's best state
     const int fine = std::min(remaining, options.fineIterations);
-    if (remaining > fine && !res.cancelled) f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
+    if (remaining > fine && !res.cancelled)
+      f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
     res.coarseIterations = static_cast<int>(res.history.size());
-    if (fine > 0 && !res.cancelled) f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
+    if (fine > 0 && !res.cancelled)
+      f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
   } else if (!res.cancelled) {
     f.run(s, remaining, options.restarts == 0, true, 0, res, true);
   }

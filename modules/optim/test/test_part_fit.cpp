@@ -265,8 +265,9 @@ TEST(Optim_PartFit, on_iteration_sees_every_step_and_stops_the_fit_when_asked) {
   uv.logScale = std::log(0.5f);
   Synthetic s = makeSynthetic(truth, uv, 64, 48, 16, 8, 4);
   const Room& room = s.room;
-  const PartGeometry geo = preparePartGeometry(s.view.gbuffer, room.camera.position().cast<float>(), s.view.grid,
-                                               s.view.gbuffer.mask[room.floor], room.floor);
+  const PartGeometry geo =
+      preparePartGeometry(s.view.gbuffer, room.camera.position().cast<float>(), s.view.grid,
+                          s.view.gbuffer.mask[room.floor], room.floor);
   const TextureLossTarget target(s.photo, s.view.gbuffer.mask[room.floor]);
   for (const int stopAt : {0, 7}) {
     PartFitOptions o = PartFitOptions::preset("fast");

@@ -38,9 +38,9 @@ namespace ps {
 
 /// What `PartFitOptions::onIteration` sees after each Adam step.
 struct PartFitProgress {
-  int iteration = 0;           ///< Adam steps taken so far (all starts and levels)
-  int level = 0;               ///< image-pyramid level the step ran at (0: full resolution)
-  double loss = 0;             ///< the step's loss (at that level)
+  int iteration = 0;  ///< Adam steps taken so far (all starts and levels)
+  int level = 0;      ///< image-pyramid level the step ran at (0: full resolution)
+  double loss = 0;    ///< the step's loss (at that level)
   /// the best state of the current phase (what fitPart would return if stopped here)
   std::vector<float> values;
   UvParams uv;
@@ -115,7 +115,7 @@ struct PartFitResult {
   double seconds = 0;
   double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
-  bool cancelled = false;          ///< onIteration returned false
+  bool cancelled = false;       ///< onIteration returned false
   UvSpectrumEstimate spectrum;  ///< the spectral prior's estimate (ok false: not used)
   double spectrumSeconds = 0;   ///< of searchSeconds, in the spectral prior
   /// loss per iteration of the continued start, at the resolution that iteration ran at (the
