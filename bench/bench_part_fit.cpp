@@ -172,6 +172,7 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
     else if (k == "coarseLevels") o.coarseLevels = i;
     else if (k == "searchLevels") o.searchLevels = i;
     else if (k == "fineIterations") o.fineIterations = i;
+    else if (k == "fineLearningRateScale") o.fineLearningRateScale = static_cast<float>(v);
     else if (k == "minLevelPixels") o.minLevelPixels = i;
     else if (k == "searchKeep") o.searchKeep = i;
     else if (k == "spectrumScaleWindow")

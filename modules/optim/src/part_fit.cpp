@@ -86,6 +86,7 @@ bool PartFitOptions::IsValid(std::string* error) const {
     return fail("coarseLevels and searchLevels must be in [0, 4]");
   if (fineIterations < 0 || minLevelPixels < 1 || searchKeep < 1)
     return fail("fineIterations must be >= 0, minLevelPixels and searchKeep >= 1");
+  if (!(fineLearningRateScale > 0)) return fail("fineLearningRateScale must be > 0");
   if (!plateau.IsValid(error)) return false;
   return true;
 }
@@ -325,7 +326,7 @@ class PartFitter {
   // Runs up to `iterations` Adam steps from `s` (search first when `searchFirst`); returns the
   // best state seen and its loss.
   double run(FitState& s, int iterations, bool searchFirst, bool searchAgain, int level, PartFitResult& res,
-             bool record) {
+             bool record, float learningRateScale = 1.0f) {
     const int n = graph_.valueCount();
     const int N = n + 5;
     std::vector<float> x(N), lower(N), upper(N), scales(N, 1.0f);
@@ -359,7 +360,7 @@ class PartFitter {
       st.uv.rotation = x[n + 1], st.uv.logScale = x[n + 2], st.uv.offset = Vec2f(x[n + 3], x[n + 4]);
     };
     pack(s);
-    Adam adam(N, AdamOptions{o_.learningRate});
+    Adam adam(N, AdamOptions{o_.learningRate * learningRateScale});
     adam.setBounds(lower, upper);
     adam.setMask(mask);
     adam.setScales(scales);
@@ -506,7 +507,8 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
       f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
     res.coarseIterations = static_cast<int>(res.history.size());
     if (fine > 0 && !res.cancelled)
-      f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true);
+      f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true,
+            remaining > fine ? options.fineLearningRateScale : 1.0f);
   } else if (!res.cancelled) {
     f.run(s, remaining, options.restarts == 0, true, 0, res, true);
   }

@@ -59,8 +59,9 @@ namespace pipeline {
 // Bump when a stage's algorithm changes so old cache entries are not reused.
 constexpr uint64_t kCacheVersion = 6;
 // The per-part fit's own version (its key, and so the stages after it): 2 = the spectral UV prior
-// and `balanced` at 100 steps.
-constexpr uint64_t kFitVersion = 2;
+// and `balanced` at 100 steps; 3 = the full-resolution steps after the coarse phase at a quarter of
+// the learning rate.
+constexpr uint64_t kFitVersion = 3;
 
 PresetBudget PresetBudget::of(const std::string& preset) {
   PresetBudget b;

@@ -83,6 +83,10 @@ struct PartFitOptions {
   int searchLevels = 2;
   int searchKeep = 8;
   int fineIterations = 40;
+  /// The learning rates of the full-resolution steps after a coarse phase, relative: they refine a
+  /// fitted state, and Adam's first steps at the full rate moved it away (balanced, 6 graphs x 2
+  /// lightings: 0.25 lowered the mean texture distance to the truth by 15 % against 1).
+  float fineLearningRateScale = 0.25f;
   int minLevelPixels = 1500;
   PlateauOptions plateau{20, 2e-3, 60};
   int restarts = 0;                ///< random starts probed besides the defaults
