@@ -47,8 +47,12 @@ int main(int argc, char** argv) {
 
     const ps::GraphLibrary library = ps::GraphLibrary::load();
     const ps::TextureLossTarget target(view.photo, mask);
-    const ps::PartFitResult r =
-        ps::fitPart(library.get(graphName), geo, view.photo, target, ps::PartFitOptions::preset("fast"));
+    ps::PartFitOptions options = ps::PartFitOptions::preset("fast");
+    options.onIteration = [](const ps::PartFitProgress& p) {  // progress; returning false stops
+      if (p.iteration % 20 == 0) std::printf("  step %d: loss %.4f\n", p.iteration, p.loss);
+      return true;
+    };
+    const ps::PartFitResult r = ps::fitPart(library.get(graphName), geo, view.photo, target, options);
 
     std::printf("%s with %s: %d pixels, loss %.4f -> %.4f in %d iterations (%.1f s)\n", partName.c_str(),
                 graphName.c_str(), geo.size(), r.initialLoss, r.loss, r.iterations, r.seconds);
