@@ -362,9 +362,9 @@ int main(int argc, char** argv) {
           const std::clock_t c0 = std::clock();
           double pausedWall = 0;
           std::clock_t pausedCpu = 0;
-          o.onIteration = [&](const PartFitProgress& pr) {
-            if (std::find(checkpoints.begin(), checkpoints.end(), pr.iteration) ==
-                checkpoints.end())
+          o.onProgress = [&](const PartFitProgress& pr) {
+            if (pr.phase != PartFitProgress::Phase::Step ||
+                std::find(checkpoints.begin(), checkpoints.end(), pr.iteration) == checkpoints.end())
               return true;
             const Timer pause;
             const std::clock_t p0 = std::clock();

@@ -48,8 +48,9 @@ int main(int argc, char** argv) {
     const ps::GraphLibrary library = ps::GraphLibrary::load();
     const ps::TextureLossTarget target(view.photo, mask);
     ps::PartFitOptions options = ps::PartFitOptions::preset("fast");
-    options.onIteration = [](const ps::PartFitProgress& p) {  // progress; returning false stops
-      if (p.iteration % 20 == 0) std::printf("  step %d: loss %.4f\n", p.iteration, p.loss);
+    options.onProgress = [](const ps::PartFitProgress& p) {  // progress; returning false stops
+      if (p.phase == ps::PartFitProgress::Phase::Step && p.iteration % 20 == 0)
+        std::printf("  step %d: loss %.4f\n", p.iteration, p.loss);
       return true;
     };
     const ps::PartFitResult r = ps::fitPart(library.get(graphName), geo, view.photo, target, options);

@@ -258,6 +258,22 @@ class PartFitter {
   UvParams search(const FitState& s, double* bestLoss, int* candidates) {
     const MaterialMaps m = maps(s.values);
     auto loss = [&](int level, const UvParams& uv) {
+      if (cancelled_) return std::numeric_limits<double>::infinity();
+      if (o_.onProgress && *candidates % 64 == 0) {
+        PartFitProgress pr;
+        pr.phase = PartFitProgress::Phase::Search;
+        pr.iteration = iterations_;
+        pr.candidates = *candidates;
+        pr.level = level;
+        pr.loss = stateLoss_;
+        pr.values = s.values;
+        pr.uv = s.uv;
+        pr.roughness = s.roughness;
+        if (!o_.onProgress(pr)) {
+          cancelled_ = true;
+          return std::numeric_limits<double>::infinity();
+        }
+      }
       ++*candidates;
       return evaluate(level, m, uv, s.roughness, o_.searchSpecularSub, nullptr, nullptr, true).loss;
     };
@@ -320,7 +336,7 @@ class PartFitter {
         }
     }
     *bestLoss = bl;
-    return best;
+    return cancelled_ ? s.uv : best;
   }
 
   // Runs up to `iterations` Adam steps from `s` (search first when `searchFirst`); returns the
@@ -373,9 +389,14 @@ class PartFitter {
       if (doSearch) {
         double sl = 0;
         const Timer st;
+        iterations_ = res.iterations;
         const UvParams uv = search(s, &sl, &res.candidates);
         res.searchSeconds += st.seconds();
         ++res.searches;
+        if (cancelled_) {
+          res.cancelled = true;
+          break;
+        }
         if (uv.rotation != s.uv.rotation || uv.logScale != s.uv.logScale || uv.offset != s.uv.offset) {
           s.uv = uv;
           pack(s);
@@ -385,6 +406,7 @@ class PartFitter {
       const MaterialMaps m = maps(s.values);
       RenderLayerGradients g;
       const Eval e = evaluate(level, m, s.uv, s.roughness, o_.specularSub, &g);
+      stateLoss_ = e.loss;
       if (record) res.history.push_back(e.loss);
       if (e.loss < bestLoss) bestLoss = e.loss, best = s;
       if (plateau.update(e.loss)) {
@@ -402,15 +424,16 @@ class PartFitter {
       adam.step(x, grad);
       unpack(s);
       ++res.iterations;
-      if (o_.onIteration) {
+      if (o_.onProgress) {
         PartFitProgress pr;
         pr.iteration = res.iterations;
+        pr.candidates = res.candidates;
         pr.level = level;
         pr.loss = e.loss;
         pr.values = best.values;
         pr.uv = best.uv;
         pr.roughness = best.roughness;
-        if (!o_.onIteration(pr)) {
+        if (!o_.onProgress(pr)) {
           res.cancelled = true;
           break;
         }
@@ -452,6 +475,9 @@ class PartFitter {
   std::vector<float> lo_, hi_;
   std::vector<uint8_t> mask_;
   UvSpectrumEstimate spectrum_;
+  bool cancelled_ = false;  // onProgress returned false
+  int iterations_ = 0;      // Adam steps before the running search (for its progress reports)
+  double stateLoss_ = 0;    // the last evaluated state's loss (for search progress reports)
 };
 
 }  // namespace
@@ -474,6 +500,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   {
     const PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
     res.initialLoss = e0.loss;
+    f.stateLoss_ = e0.loss;
     res.initialTextureLoss = e0.tex;
   }
   if (options.spectrumScaleWindow > 0) {

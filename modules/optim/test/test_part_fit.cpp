@@ -257,7 +257,7 @@ TEST(Optim_PartFit, recovers_known_material_and_uv_rotation) {
 // lands at 0.700 (`fast`) / 0.692 (`balanced`) with a texture loss below the truth's own: at the
 // graph's default parameters the search's best match is the wrong plank width, and the
 // parameters then adapt to it. The photo's spectrum against the graph's reads the scale directly.
-TEST(Optim_PartFit, on_iteration_sees_every_step_and_stops_the_fit_when_asked) {
+TEST(Optim_PartFit, on_progress_sees_every_step_and_the_searches_and_stops_the_fit_when_asked) {
   const GraphLibrary lib = GraphLibrary::load();
   MaterialGraph truth = lib.create("wood_planks");
   truth.setValues(truthValues(truth, 5, 0.3f));
@@ -269,34 +269,55 @@ TEST(Optim_PartFit, on_iteration_sees_every_step_and_stops_the_fit_when_asked) {
       preparePartGeometry(s.view.gbuffer, room.camera.position().cast<float>(), s.view.grid,
                           s.view.gbuffer.mask[room.floor], room.floor);
   const TextureLossTarget target(s.photo, s.view.gbuffer.mask[room.floor]);
-  for (const int stopAt : {0, 7}) {
+  struct Case {
+    int stopAtStep;     // 0: never
+    bool stopInSearch;  // at its report after 64 candidates
+  };
+  for (const Case c : {Case{0, false}, Case{7, false}, Case{0, true}}) {
+    SCOPED_TRACE(testing::Message() << "stop at step " << c.stopAtStep << ", in search " << c.stopInSearch);
     PartFitOptions o = PartFitOptions::preset("fast");
     o.maxIterations = 30;
     o.plateau.minIterations = 1000;  // every step runs unless stopped
-    std::vector<PartFitProgress> seen;
-    o.onIteration = [&](const PartFitProgress& p) {
-      seen.push_back(p);
-      return p.iteration != stopAt;
+    std::vector<PartFitProgress> steps, searches;
+    o.onProgress = [&](const PartFitProgress& p) {
+      if (p.phase == PartFitProgress::Phase::Search) {
+        searches.push_back(p);
+        return !(c.stopInSearch && p.candidates >= 64);
+      }
+      steps.push_back(p);
+      return p.iteration != c.stopAtStep;
     };
     const PartFitResult r = fitPart(lib.get("wood_planks"), geo, s.photo, target, o);
-    const int expected = stopAt > 0 ? stopAt : o.maxIterations;
-    EXPECT_EQ(r.cancelled, stopAt > 0);
-    ASSERT_EQ(static_cast<int>(seen.size()), expected);
+    const int expected = c.stopInSearch ? 0 : c.stopAtStep > 0 ? c.stopAtStep : o.maxIterations;
+    EXPECT_EQ(r.cancelled, c.stopAtStep > 0 || c.stopInSearch);
+    ASSERT_EQ(static_cast<int>(steps.size()), expected);
     EXPECT_EQ(r.iterations, expected);
     ASSERT_EQ(static_cast<int>(r.history.size()), expected);
     for (int i = 0; i < expected; ++i) {
-      EXPECT_EQ(seen[i].iteration, i + 1);
-      EXPECT_DOUBLE_EQ(seen[i].loss, r.history[i]);  // the step's loss, at its level
-      EXPECT_TRUE(std::isfinite(seen[i].loss));
+      EXPECT_EQ(steps[i].iteration, i + 1);
+      EXPECT_DOUBLE_EQ(steps[i].loss, r.history[i]);  // the step's loss, at its level
+      EXPECT_TRUE(std::isfinite(steps[i].loss));
     }
-    if (stopAt > 0) {
+    // the first search runs before the first step; it reports every 64 candidates
+    ASSERT_FALSE(searches.empty());
+    EXPECT_EQ(searches[0].iteration, 0);
+    EXPECT_EQ(searches[0].candidates, 0);
+    EXPECT_DOUBLE_EQ(searches[0].loss, r.initialLoss);
+    if (c.stopInSearch) {
+      // stopped in the first search: the start state, untouched, and no step ran
+      EXPECT_EQ(r.candidates, 64);
+      EXPECT_EQ(r.values, lib.get("wood_planks").values());
+      EXPECT_EQ(r.uv.logScale, 0.0f);
+      EXPECT_EQ(r.uv.rotation, 0.0f);
+    } else if (c.stopAtStep > 0) {
       // stopped: the fit returns the best state the last report showed, and no finer phase ran
-      EXPECT_EQ(r.values, seen.back().values);
-      EXPECT_EQ(r.uv.logScale, seen.back().uv.logScale);
-      EXPECT_EQ(r.roughness, seen.back().roughness);
-      EXPECT_EQ(seen.back().level, r.coarseIterations > 0 ? 1 : 0);
+      EXPECT_EQ(r.values, steps.back().values);
+      EXPECT_EQ(r.uv.logScale, steps.back().uv.logScale);
+      EXPECT_EQ(r.roughness, steps.back().roughness);
+      EXPECT_EQ(steps.back().level, r.coarseIterations > 0 ? 1 : 0);
     } else {
-      EXPECT_EQ(seen.back().level, 0);  // the last steps at full resolution
+      EXPECT_EQ(steps.back().level, 0);  // the last steps at full resolution
+      EXPECT_GT(r.candidates, 64);
     }
     EXPECT_TRUE(std::isfinite(r.loss));
   }

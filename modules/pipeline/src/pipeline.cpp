@@ -749,7 +749,7 @@ void stageFit(Context& ctx) {
       o.seed = partSeed(ctx, p.name);
       if (ctx.options.maxFitIterations) o.maxIterations = std::min(o.maxIterations, *ctx.options.maxFitIterations);
       // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
-      o.onIteration = [](const PartFitProgress&) { return !interruptRequested(); };
+      o.onProgress = [](const PartFitProgress&) { return !interruptRequested(); };
       const TextureLossTarget target(photo, mask);
       const PartFitResult r = fitPart(ctx.library->get(p.graph), geo, photo, target, o);
       if (r.cancelled) return;  // not a result: nothing is stored, checkInterrupted below throws

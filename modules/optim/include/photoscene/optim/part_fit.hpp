@@ -36,12 +36,17 @@
 
 namespace ps {
 
-/// What `PartFitOptions::onIteration` sees after each Adam step.
+/// What `PartFitOptions::onProgress` sees: after each Adam step, and every 64 candidates of a
+/// discrete UV search (a `paper` search is 57,600 candidates, minutes on one thread).
 struct PartFitProgress {
-  int iteration = 0;  ///< Adam steps taken so far (all starts and levels)
-  int level = 0;      ///< image-pyramid level the step ran at (0: full resolution)
-  double loss = 0;    ///< the step's loss (at that level)
-  /// the best state of the current phase (what fitPart would return if stopped here)
+  enum class Phase { Step, Search };
+  Phase phase = Phase::Step;
+  int iteration = 0;           ///< Adam steps taken so far (all starts and levels)
+  int candidates = 0;          ///< UV candidates evaluated so far (all searches)
+  int level = 0;               ///< image-pyramid level of the step (0: full resolution)
+  double loss = 0;             ///< Step: the step's loss (at its level); Search: the state's before it
+  /// Step: the best state of the current phase (what fitPart would return if stopped here);
+  /// Search: the state the search started from
   std::vector<float> values;
   UvParams uv;
   float roughness = 0.5f;
@@ -93,10 +98,11 @@ struct PartFitOptions {
   int restartProbeIterations = 30; ///< iterations each start gets before the best is continued
   float restartSpread = 0.5f;
   uint64_t seed = 1;
-  /// Called after every Adam step (progress bars, checkpoints, cancellation); returning false
-  /// stops the fit there, with the best state so far and PartFitResult::cancelled set. Not part
-  /// of what a preset decides, and not a fit parameter (a fit's cache key leaves it out).
-  std::function<bool(const PartFitProgress&)> onIteration;
+  /// Called after every Adam step and during searches (progress bars, checkpoints, cancellation);
+  /// returning false stops the fit there, with the best state so far and PartFitResult::cancelled
+  /// set. Not part of what a preset decides, and not a fit parameter (a fit's cache key leaves it
+  /// out).
+  std::function<bool(const PartFitProgress&)> onProgress;
 
   /// "paper": 1000 iterations, maps 256, 72 rotations x 32 log-scales x 5 x 5 offsets every 50
   /// iterations (the caller renders at 320 x 240; every step at full resolution, the search's grid
@@ -119,7 +125,7 @@ struct PartFitResult {
   double seconds = 0;
   double searchSeconds = 0;        ///< of which in the discrete UV searches
   bool stoppedOnPlateau = false;
-  bool cancelled = false;       ///< onIteration returned false
+  bool cancelled = false;          ///< onProgress returned false
   UvSpectrumEstimate spectrum;  ///< the spectral prior's estimate (ok false: not used)
   double spectrumSeconds = 0;   ///< of searchSeconds, in the spectral prior
   /// loss per iteration of the continued start, at the resolution that iteration ran at (the
