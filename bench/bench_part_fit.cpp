@@ -327,6 +327,13 @@ int main(int argc, char** argv) {
         const cv::Scalar mf = cv::mean(fm.albedo), mt = cv::mean(tm.albedo);
         row.albedoErr =
             std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
+        const cv::Scalar rf = cv::mean(render, mask), rt = cv::mean(truthRender, mask), ph = cv::mean(photo, mask);
+        std::fprintf(stderr,
+                     "  step %d: mean albedo (%.3f %.3f %.3f), truth (%.3f %.3f %.3f); masked render mean "
+                     "(%.3f %.3f %.3f), truth's (%.3f %.3f %.3f), photo (%.3f %.3f %.3f); roughness %.3f, "
+                     "truth %.3f\n",
+                     row.iterations, mf[0], mf[1], mf[2], mt[0], mt[1], mt[2], rf[0], rf[1], rf[2], rt[0], rt[1],
+                     rt[2], ph[0], ph[1], ph[2], roughness, cv::mean(tm.roughness)[0]);
         double rot = degrees(uv.rotation - uvTrue.rotation);
         rot = std::fmod(std::fmod(rot, 180.0) + 270.0, 180.0) - 90.0;
         row.rot = rot;
