@@ -171,6 +171,10 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
     else if (k == "searchSpecularSub") o.searchSpecularSub = i;
     else if (k == "coarseLevels") o.coarseLevels = i;
     else if (k == "searchLevels") o.searchLevels = i;
+    else if (k == "statWeight")
+      o.statWeight = static_cast<float>(v);
+    else if (k == "textureWeight")
+      o.textureWeight = static_cast<float>(v);
     else if (k == "fineIterations") o.fineIterations = i;
     else if (k == "fineLearningRateScale") o.fineLearningRateScale = static_cast<float>(v);
     else if (k == "minLevelPixels") o.minLevelPixels = i;
