@@ -72,6 +72,16 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
   const int W = 1180, H = 560, panelW = 500, panelH = 400, top = 50, left0 = 70, gap = 580;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
   const std::vector<cv::Scalar> palette = {{200, 80, 30}, {30, 140, 30}, {30, 30, 200}, {150, 30, 150}, {0, 150, 200}};
+  // one shape per graph: circle, square, triangle, diamond, cross
+  auto marker = [&](const cv::Point& p, int shape, const cv::Scalar& col) {
+    switch (shape % 5) {
+      case 0: cv::circle(img, p, 5, col, 2, cv::LINE_AA); break;
+      case 1: cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), col, 2); break;
+      case 2: cv::drawMarker(img, p, col, cv::MARKER_TRIANGLE_UP, 11, 2); break;
+      case 3: cv::drawMarker(img, p, col, cv::MARKER_DIAMOND, 11, 2); break;
+      default: cv::drawMarker(img, p, col, cv::MARKER_TILTED_CROSS, 10, 2); break;
+    }
+  };
   std::map<std::string, int> presetIdx, graphIdx;
   for (const Row& r : rows) {
     presetIdx.emplace(r.preset, static_cast<int>(presetIdx.size()));
@@ -115,10 +125,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
     for (const Row& r : rows) {
       const cv::Point p(X(r.cpu), Y(err(r)));
       const cv::Scalar col = palette[presetIdx[r.preset] % palette.size()];
-      const int shape = graphIdx[r.graph];
-      if (shape % 3 == 0) cv::circle(img, p, 5, col, 2, cv::LINE_AA);
-      else if (shape % 3 == 1) cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), col, 2);
-      else cv::drawMarker(img, p, col, cv::MARKER_TRIANGLE_UP, 11, 2);
+      marker(p, graphIdx[r.graph], col);
       char key[256];
       std::snprintf(key, sizeof key, "%s/%g/%s", r.graph.c_str(), r.light, r.preset.c_str());
       lines[key].push_back(p);
@@ -133,15 +140,13 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
   for (auto& [name, i] : presetIdx) {
     cv::circle(img, cv::Point(lx, ly - 4), 5, palette[i % palette.size()], -1, cv::LINE_AA);
     cv::putText(img, name, cv::Point(lx + 10, ly), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    lx += 120;
+    lx += 100;
   }
   for (auto& [name, i] : graphIdx) {
     const cv::Point p(lx, ly - 4);
-    if (i % 3 == 0) cv::circle(img, p, 5, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
-    else if (i % 3 == 1) cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), cv::Scalar(0, 0, 0), 2);
-    else cv::drawMarker(img, p, cv::Scalar(0, 0, 0), cv::MARKER_TRIANGLE_UP, 11, 2);
+    marker(p, i, cv::Scalar(0, 0, 0));
     cv::putText(img, name, cv::Point(lx + 10, ly), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    lx += 150;
+    lx += 20 + 10 * static_cast<int>(name.size());
   }
   cv::Mat rgb;  // drawn in OpenCV's BGR; ps::io writes RGB
   cv::cvtColor(img, rgb, cv::COLOR_BGR2RGB);
