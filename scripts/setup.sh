@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libopencv-contrib-dev   # image work, ximgproc segmentation, quality metrics
   libeigen3-dev                         # small linear algebra, least squares
-  libopenimageio-dev                    # PNG / JPEG / EXR / HDR reading and writing
+  libopenimageio-dev openimageio-tools  # PNG / JPEG / EXR / HDR reading and writing (its CMake package names /usr/bin/iconvert)
   libtinyobjloader-dev                  # OBJ parsing
   libflann-dev liblz4-dev               # kNN index (FLANN needs lz4)
   libembree-dev                         # ray tracing BVH
