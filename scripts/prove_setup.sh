@@ -12,6 +12,8 @@
 #   --with-shared   also copy ../shared (the example data) beside the clone, so the tests that use
 #                   it run instead of skipping; a new user has no shared/, so the default leaves it out
 #   --only STEP     run only the demo or only the test command
+#   --command CMD   run CMD (in the clone, inside the root) instead of the README's commands: for
+#                   a quick look, e.g. --command 'bash scripts/setup.sh && cmake -S . -B build'
 #
 # Commits only: uncommitted changes are not in the clone. Exit status: that of the first command
 # that failed, 0 when both passed.
@@ -22,13 +24,15 @@ ROOT=/var/tmp/photoscene-fresh-root
 KEEP=0
 WITH_SHARED=0
 ONLY=""
+COMMAND=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --root) ROOT="$2"; shift 2 ;;
     --keep) KEEP=1; shift ;;
     --with-shared) WITH_SHARED=1; shift ;;
     --only) ONLY="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    --command) COMMAND="$2"; shift 2 ;;
+    -h|--help) sed -n '2,19p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "prove_setup: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -107,8 +111,12 @@ run_in_root() {
 
 TIMES=()
 status=0
-if [ "$ONLY" != test ]; then run_in_root demo "bash scripts/demo.sh" || status=$?; fi
-if [ "$status" -eq 0 ] && [ "$ONLY" != demo ]; then run_in_root test "bash scripts/test.sh" || status=$?; fi
+if [ -n "$COMMAND" ]; then
+  run_in_root command "$COMMAND" || status=$?
+else
+  if [ "$ONLY" != test ]; then run_in_root demo "bash scripts/demo.sh" || status=$?; fi
+  if [ "$status" -eq 0 ] && [ "$ONLY" != demo ]; then run_in_root test "bash scripts/test.sh" || status=$?; fi
+fi
 
 say "fresh Debian 12 root, $(nproc) cores:"
 for t in "${TIMES[@]}"; do echo "  $t"; done
