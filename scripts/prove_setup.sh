@@ -76,8 +76,22 @@ deb http://deb.debian.org/debian bookworm-updates main
 deb http://deb.debian.org/debian-security bookworm-security main
 EOF
 cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
-mkdir -p "$ROOT/etc/ssl/certs"
+mkdir -p "$ROOT/etc/ssl/certs" "$ROOT/usr/local/share/ca-certificates"
 cp -L /etc/ssl/certs/ca-certificates.crt "$ROOT/etc/ssl/certs/ca-certificates.crt"
+# Installing Debian's ca-certificates (chromium and npm pull it in) rebuilds the bundle from
+# Debian's list plus /usr/local/share/ca-certificates: the machine's own authorities must be there
+# too, or they are dropped halfway through setup.
+cp -L /etc/ssl/certs/ca-certificates.crt "$ROOT/usr/local/share/ca-certificates/machine-bundle.crt"
+[ -f /etc/npmrc ] && cp -L /etc/npmrc "$ROOT/etc/npmrc"
+# The machine's variables that name its certificate bundle or proxy (Node reads
+# NODE_EXTRA_CA_CERTS, not the system store) go into the root; nothing else of this environment.
+PASS_ENV=()
+while IFS='=' read -r k _; do
+  case "$k" in
+    NODE_EXTRA_CA_CERTS|SSL_CERT_FILE|SSL_CERT_DIR|CURL_CA_BUNDLE|REQUESTS_CA_BUNDLE|http_proxy|https_proxy|no_proxy|HTTP_PROXY|HTTPS_PROXY|NO_PROXY)
+      PASS_ENV+=("$k=${!k}") ;;
+  esac
+done < <(env)
 
 mount -t proc proc "$ROOT/proc" && MOUNTS+=("$ROOT/proc")
 mount -t sysfs sysfs "$ROOT/sys" && MOUNTS+=("$ROOT/sys")
@@ -100,7 +114,7 @@ run_in_root() {
   say "chroot: $cmd"
   start=$(date +%s)
   set +e
-  chroot "$ROOT" /usr/bin/env -i HOME=/root TERM=dumb LANG=C.UTF-8 \
+  chroot "$ROOT" /usr/bin/env -i HOME=/root TERM=dumb LANG=C.UTF-8 "${PASS_ENV[@]}" \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     /bin/bash -c "cd /work/main && $cmd" </dev/null
   rc=$?
