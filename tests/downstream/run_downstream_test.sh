@@ -91,7 +91,8 @@ n=\$("$PREFIX/bin/photoscene" graphs --list | wc -l)
 step "installed photoscene graphs: \$n graphs, brick_red rendered"
 SCRIPT
 case "$TMP/" in "$SRC"/* | "$BUILD"/*) hide=no ;; *) hide=yes ;; esac
-if [ "$hide" = yes ] && unshare -r -m true 2>/dev/null; then
+mkdir -p "$TMP/probe"
+if [ "$hide" = yes ] && unshare -r -m sh -c "mount -t tmpfs -o size=1m ps-probe '$TMP/probe'" 2>/dev/null; then
   PS_HIDE_SOURCE=$SRC PS_HIDE_BUILD=$BUILD unshare -r -m bash "$0" --hidden bash "$TMP/downstream.sh"
 else
   step "cannot hide the source tree here (no user namespaces); the programs still check the folders they use"
