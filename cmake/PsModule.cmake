@@ -10,6 +10,13 @@
 #   perf/*.cpp   -> ps_perf_<name> (Google Benchmark)
 # DEPS names other photoscene modules (without the ps_ prefix). Modules may be declared in any
 # order; ps_check_module_graph() refuses a dependency cycle or an unknown module at the end.
+#
+# Installation (cmake --install): the library goes to ${CMAKE_INSTALL_LIBDIR} in the export set
+# photosceneTargets as photoscene::<name> (cmake/PsInstall.cmake writes photosceneConfig.cmake),
+# the public headers to ${CMAKE_INSTALL_INCLUDEDIR}. In the build tree photoscene::<name> is an
+# alias of ps_<name>.
+
+include(GNUInstallDirs)
 
 define_property(GLOBAL PROPERTY PS_MODULES BRIEF_DOCS "photoscene modules" FULL_DOCS "all modules")
 
@@ -24,8 +31,9 @@ function(ps_define_module name)
   add_library(${target} STATIC ${srcs} ${hdrs})
   add_library(photoscene::${name} ALIAS ${target})
   target_include_directories(${target}
-    PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
-    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+    PRIVATE $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/src>)
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
   set(dep_targets)
   foreach(dep IN LISTS ARG_DEPS)
     list(APPEND dep_targets ps_${dep})
@@ -33,6 +41,10 @@ function(ps_define_module name)
   target_link_libraries(${target} PUBLIC ${dep_targets} ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
   set_property(GLOBAL APPEND PROPERTY PS_MODULES ${name})
   set_property(GLOBAL PROPERTY PS_MODULE_DEPS_${name} "${ARG_DEPS}")
+  install(TARGETS ${target} EXPORT photosceneTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT photoscene_dev)
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+    COMPONENT photoscene_dev FILES_MATCHING PATTERN "*.hpp")
 
   if(PS_BUILD_TESTS)
     file(GLOB test_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/*.cpp)

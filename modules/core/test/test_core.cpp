@@ -3,9 +3,11 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <vector>
 
 #include "photoscene/core.hpp"
+#include "photoscene/core/data_folder.hpp"
 #include "photoscene/core/memory.hpp"
 
 namespace ps {
@@ -210,6 +212,29 @@ TEST(Core_Memory, peak_memory_grows_with_a_touched_allocation) {
   EXPECT_GT(before, 0);
   std::vector<char> block(size_t(64) << 20, 1);  // 64 MiB, touched
   EXPECT_GE(peakMemoryBytes(), before + (int64_t(32) << 20) * (block[12345] == 1));
+}
+
+// An installed tree's data (<bin>/../share/photoscene/<name>) comes before the build tree's folder,
+// which comes before nothing; a name found nowhere is empty.
+TEST(Core_DataFolder, beside_the_program_then_the_build_tree) {
+  namespace fs = std::filesystem;
+  const fs::path bin = executableFolder();
+  ASSERT_FALSE(bin.empty());
+  EXPECT_TRUE(fs::equivalent(bin / "ps_test_core", fs::read_symlink("/proc/self/exe")));
+  const std::string name = "core_data_folder_test";
+  const fs::path buildTree = fs::path(PS_BINARY_DIR) / "core_data_folder_build_tree";
+  const fs::path beside = bin / ".." / "share" / "photoscene" / name;
+  fs::remove_all(beside);
+  fs::create_directories(buildTree);
+  EXPECT_TRUE(findDataFolder(name).empty());
+  EXPECT_EQ(findDataFolder(name, buildTree), buildTree);
+  EXPECT_TRUE(findDataFolder(name, buildTree / "missing").empty());
+  fs::create_directories(beside);
+  const fs::path found = findDataFolder(name, buildTree);
+  EXPECT_TRUE(fs::equivalent(found, beside)) << found;
+  EXPECT_EQ(found, found.lexically_normal());
+  fs::remove_all(beside);
+  fs::remove_all(buildTree);
 }
 
 }  // namespace ps

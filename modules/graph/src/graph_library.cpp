@@ -2,6 +2,7 @@
 #include "photoscene/graph/graph_library.hpp"
 
 #include "photoscene/core.hpp"
+#include "photoscene/core/data_folder.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -15,6 +16,9 @@ namespace ps {
 
 std::string GraphLibrary::defaultFolder() {
   if (const char* env = std::getenv("PHOTOSCENE_GRAPH_LIBRARY"); env && *env) return env;
+  // an installed tree's share/photoscene/graphs, else the source tree's (ps::findDataFolder)
+  if (const auto found = findDataFolder("graphs", PS_GRAPH_LIBRARY_DIR); !found.empty())
+    return found.string();
   return PS_GRAPH_LIBRARY_DIR;
 }
 

@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "photoscene/core/data_folder.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 #include "photoscene/core/timer.hpp"
@@ -343,8 +344,15 @@ fs::path defaultViewerDir() {
   if (const char* env = std::getenv("PHOTOSCENE_VIEWER_DIR"))
     if (fs::exists(fs::path(env) / "photoscene-viewer.js")) return env;
 #ifdef PS_VIEWER_DIR
-  if (fs::exists(fs::path(PS_VIEWER_DIR) / "photoscene-viewer.js")) return PS_VIEWER_DIR;
+  const fs::path buildTree = PS_VIEWER_DIR;
+#else
+  const fs::path buildTree;
 #endif
+  // an installed tree's share/photoscene/viewer, else the build tree's (ps::findDataFolder)
+  if (const fs::path dir = findDataFolder("viewer", buildTree);
+      !dir.empty() && fs::exists(dir / "photoscene-viewer.js"))
+    return dir;
+  if (!buildTree.empty() && fs::exists(buildTree / "photoscene-viewer.js")) return buildTree;
   return {};
 }
 

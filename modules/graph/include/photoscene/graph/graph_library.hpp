@@ -1,9 +1,10 @@
 // The library of material graphs: a folder of *.json graph files found at run time.
 //
 // Where: the `folder` argument if not empty, else the environment variable
-// PHOTOSCENE_GRAPH_LIBRARY, else the folder compiled in (modules/graph/library of the source
-// tree). A user adds a graph by dropping a JSON file (format: modules/graph/FORMAT.md) into the
-// folder; no recompiling.
+// PHOTOSCENE_GRAPH_LIBRARY, else share/photoscene/graphs of an installed tree found next to the
+// running program, else the folder compiled in (modules/graph/library of the source tree), else
+// share/photoscene/graphs under the configured install prefix (ps::findDataFolder). A user adds a
+// graph by dropping a JSON file (format: modules/graph/FORMAT.md) into the folder; no recompiling.
 #pragma once
 
 #include "photoscene/graph/material_graph.hpp"
@@ -20,7 +21,8 @@ const std::vector<std::string>& materialCategories();
 
 class GraphLibrary {
  public:
-  /// The folder load("") reads: $PHOTOSCENE_GRAPH_LIBRARY or the compiled-in default.
+  /// The folder load("") reads: $PHOTOSCENE_GRAPH_LIBRARY, else the installed or source-tree
+  /// library (see above).
   static std::string defaultFolder();
   /// Loads and validates every *.json in `folder` (sorted by file name). Throws ps::InputError
   /// for a missing folder, a malformed graph, an unknown category or a duplicate name.

@@ -30,8 +30,9 @@
 namespace ps {
 
 struct ReportOptions {
-  /// Folder holding photoscene-viewer.js (empty: $PHOTOSCENE_VIEWER_DIR, then the build tree's
-  /// share/photoscene/viewer). Without it the report has no 3D viewer (and says so).
+  /// Folder holding photoscene-viewer.js (empty: $PHOTOSCENE_VIEWER_DIR, then share/photoscene/
+  /// viewer of an installed tree or the build tree, see ps::findDataFolder). Without it the
+  /// report has no 3D viewer (and says so).
   std::filesystem::path viewerDir;
   /// Export OUT/twin.gltf from the twin folder when it is missing (needs a loadable twin).
   bool exportGltfIfMissing = true;
