@@ -717,7 +717,9 @@ void writeSummary(const Batch& b, const std::vector<SceneRecord>& records) {
     const std::string preset = m.is_object() && m.contains("preset") && m["preset"].is_string()
                                    ? m["preset"].get<std::string>()
                                    : sceneOptions(b, i).preset.value_or("");
-    csv << csvField(r.name) << "," << statusName(r.status) << ","
+    // the contract's four words: a scene still running is pending in summary.csv
+    csv << csvField(r.name) << ","
+        << statusName(r.status == Status::Running ? Status::Pending : r.status) << ","
         << (r.exitCode ? std::to_string(*r.exitCode) : "") << ","
         << (r.seconds > 0 ? csvNumber(r.seconds) : "") << "," << csvField(preset);
     for (const std::string& s : stages)

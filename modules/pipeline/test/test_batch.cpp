@@ -206,6 +206,19 @@ TEST(Batch_Summary, one_row_per_scene_with_stage_seconds_and_ground_truth_metric
   EXPECT_EQ(index.find("href=\"b/report.html\""), std::string::npos);  // b has no report
   EXPECT_NE(index.find("1 done, 1 failed"), std::string::npos);
   EXPECT_NE(index.find("&quot;badly&quot;"), std::string::npos);  // escaped
+
+  // summary.csv keeps the contract's four words: a running scene is pending there (index.html
+  // says running)
+  records[1].status = Status::Running;
+  records[1].exitCode.reset();
+  records[1].error.clear();
+  batch::writeSummary(b, records);
+  std::ifstream again(dir / "summary.csv");
+  std::getline(again, header);
+  std::getline(again, rowA);
+  std::getline(again, rowB);
+  EXPECT_EQ(rowB.substr(0, 12), "b,pending,,,");
+  EXPECT_NE(io::readTextFile(dir / "index.html").find("<td>running</td>"), std::string::npos);
 }
 
 TEST(Batch_Slurm, array_script_sizes_tasks_by_preset_and_runs_the_task_entry_point) {
