@@ -294,6 +294,37 @@ TEST(BatchCli, an_interrupted_batch_records_pending_and_the_rerun_finishes_from_
   EXPECT_EQ(m[1], "0") << "the rerun recomputed the alignment\n" << second;
 }
 
+// A scene that fails (not bad input): recorded as failed with its error line, the batch exits 1,
+// --status shows the error; the rerun finishes it.
+TEST(BatchCli, a_failed_scene_is_recorded_with_its_error_and_the_rerun_finishes_it) {
+  TempDir dir;
+  writeTinyScene(dir / "scenes/room", 0.45);
+  std::ofstream(dir / "scenes/one.txt") << "room/scene.json\n";
+  const fs::path root = dir / "out";
+  const std::string cmd = "batch " + (dir / "scenes/one.txt").string() + " -o " + root.string() +
+                          " --preset fast --texture-size 16 --threads 2";
+  setenv("PS_FAIL_AT_STAGE", "export", 1);  // the children inherit it
+  const Result failed = runPhotoscene(cmd);
+  unsetenv("PS_FAIL_AT_STAGE");
+  EXPECT_EQ(failed.exitCode, 1) << failed.output;
+  const nlohmann::json rec = record(root, "room");
+  EXPECT_EQ(rec["status"], "failed");
+  EXPECT_EQ(rec["exit_code"], 1);
+  EXPECT_TRUE(contains(rec["error"], "PS_FAIL_AT_STAGE=export")) << rec["error"];
+  const Result st = runPhotoscene("batch --status " + root.string());
+  EXPECT_EQ(st.exitCode, 1) << st.output;
+  EXPECT_TRUE(std::regex_search(st.output, std::regex("room +failed +1 .*PS_FAIL_AT_STAGE=export")))
+      << st.output;
+  EXPECT_TRUE(contains(io::readTextFile(root / "summary.csv"), "room,failed,1,"))
+      << io::readTextFile(root / "summary.csv");
+
+  const Result again = runPhotoscene(cmd);
+  EXPECT_EQ(again.exitCode, 0) << again.output;
+  EXPECT_EQ(record(root, "room")["status"], "done");
+  EXPECT_EQ(record(root, "room")["error"], "");
+  EXPECT_TRUE(fs::exists(root / "room/metrics.json"));
+}
+
 TEST(BatchCli, bad_manifests_exit_2_naming_the_file_and_line_and_write_nothing) {
   TempDir dir;
   writeTinyScene(dir / "a", 0.4);
