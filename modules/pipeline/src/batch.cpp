@@ -727,12 +727,15 @@ void writeSummary(const Batch& b, const std::vector<SceneRecord>& records) {
           << (m.is_object() && m.contains("stages") && m["stages"].contains(s)
                   ? csvNumber(number(m["stages"][s]))
                   : "");
-    std::vector<std::string> values;
+    std::vector<std::string> values;  // for the page: SSIM to 3 decimals, RMSE and PSNR to 2
     for (const MetricColumn& c : metricColumns) {
-      const std::string v =
-          m.is_object() && m.contains(c.array) ? csvNumber(meanMetric(m[c.array], c.key)) : "";
-      values.push_back(v);
-      csv << "," << v;
+      const double v = m.is_object() && m.contains(c.array)
+                           ? meanMetric(m[c.array], c.key)
+                           : std::numeric_limits<double>::quiet_NaN();
+      values.push_back(!std::isfinite(v)              ? ""
+                       : std::string(c.key) == "ssim" ? fmt::format("{:.3f}", v)
+                                                      : fmt::format("{:.2f}", v));
+      csv << "," << csvNumber(v);
     }
     csv << "," << csvField(r.error) << "\n";
 
