@@ -17,6 +17,17 @@ class NotBuiltYet : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Thrown by a subcommand that finished and has its own exit status (`batch`: 1 or 2 by what its
+/// scenes did); main returns code() and prints nothing more.
+class ExitStatus {
+ public:
+  explicit ExitStatus(int code) : code_(code) {}
+  int code() const { return code_; }
+
+ private:
+  int code_;
+};
+
 void addRunCommand(CLI::App& root);
 void addRenderCommand(CLI::App& root);
 void addEvalCommand(CLI::App& root);
@@ -24,6 +35,7 @@ void addGraphsCommand(CLI::App& root);
 void addCheckCommand(CLI::App& root);
 void addReportCommand(CLI::App& root);
 void addViewCommand(CLI::App& root);
+void addBatchCommand(CLI::App& root);
 
 /// `photoscene` with no arguments: runs the bundled sample into ./photoscene-demo.
 void runDemo();

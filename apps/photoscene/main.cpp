@@ -36,11 +36,14 @@ int main(int argc, char** argv) {
   ps::app::addCheckCommand(app);
   ps::app::addReportCommand(app);
   ps::app::addViewCommand(app);
+  ps::app::addBatchCommand(app);
 
   try {
     app.parse(argc, argv);
     if (app.get_subcommands().empty()) ps::app::runDemo();
     return 0;
+  } catch (const ps::app::ExitStatus& e) {
+    return e.code();
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help, version or the usage error
     return code == 0 ? 0 : 2;      // a command-line mistake is bad input
