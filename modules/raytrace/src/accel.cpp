@@ -43,7 +43,8 @@ void attachTriangles(RTCDevice device, RTCScene scene, const std::vector<Vec3f>&
 }
 }  // namespace
 
-RayAccel::RayAccel(const Mesh& mesh, const std::vector<Vec3f>& shapeVertices) : impl_(new Impl), mesh_(mesh) {
+RayAccel::RayAccel(const Mesh& mesh, const std::vector<Vec3f>& shapeVertices)
+    : impl_(new Impl), mesh_(mesh) {
   build(shapeVertices);
 }
 
@@ -51,7 +52,7 @@ RayAccel::RayAccel(const Mesh& mesh, const std::vector<AreaLight>& lights) : imp
   std::vector<Vec3f> v;
   for (size_t i = 0; i < lights.size(); ++i) {
     const size_t first = v.size();
-    lights[i].shapes(&v);
+    lights[i].shapes(&v, nullptr);
     for (size_t k = first; k + 2 < v.size(); k += 3) shapeLight_.push_back(static_cast<int>(i));
   }
   build(v);
@@ -69,8 +70,10 @@ void RayAccel::build(const std::vector<Vec3f>& shapeVertices) {
   PS_Check(shapeVertices.size() % 3 == 0, "RayAccel: light shapes are triangles (3 vertices each)");
   shapeVertices_ = shapeVertices;
   std::vector<Eigen::Vector3i> shapeTris;
-  for (int k = 0; 3 * k < static_cast<int>(shapeVertices_.size()); ++k) shapeTris.emplace_back(3 * k, 3 * k + 1, 3 * k + 2);
-  if (!shapeTris.empty()) attachTriangles(impl_->device, impl_->scene, shapeVertices_, shapeTris, 1);
+  for (int k = 0; 3 * k < static_cast<int>(shapeVertices_.size()); ++k)
+    shapeTris.emplace_back(3 * k, 3 * k + 1, 3 * k + 2);
+  if (!shapeTris.empty())
+    attachTriangles(impl_->device, impl_->scene, shapeVertices_, shapeTris, 1);
   rtcCommitScene(impl_->scene);
   const RTCError err = rtcGetDeviceError(impl_->device);
   PS_Check(err == RTC_ERROR_NONE, "Embree error " << static_cast<int>(err) << " while building the BVH");

@@ -33,17 +33,17 @@ struct PathTracer::Lights {
   struct Prim {
     int light = -1, prim = -1;  // light index, the light's own primitive
   };
-  std::vector<Prim> meshTriEmitter;   // mesh triangle -> emitter
-  std::vector<Prim> shapePrim;        // light-shape primitive (geometry 1) -> emitter
+  std::vector<Prim> meshTriEmitter;     // mesh triangle -> emitter
+  std::vector<Prim> shapePrim;          // light-shape primitive (geometry 1) -> emitter
   std::vector<uint8_t> meshTriOpening;  // mesh triangle of an opening part (rays pass through)
-  std::vector<int> infinite;          // lights that escaped rays see
+  std::vector<int> infinite;            // lights that escaped rays see
 };
 
 // What shines in one render call.
 struct ActiveLights {
   std::vector<Vec3f> scale;  // per light (zero: off)
   std::vector<uint8_t> on;
-  Distribution1D select;     // over the lights, half by power, half uniform
+  Distribution1D select;  // over the lights, half by power, half uniform
   float selectPdf(int i) const { return select.pdf(i); }
 };
 
@@ -59,7 +59,7 @@ PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& mate
   for (int i = 0; i < nl; ++i) {
     L.lights.push_back(sceneLights[i]->clone());
     const size_t first = shapeVertices.size();
-    L.lights[i]->shapes(&shapeVertices);
+    L.lights[i]->shapes(&shapeVertices, nullptr);
     for (size_t k = first; k + 2 < shapeVertices.size(); k += 3)
       L.shapePrim.push_back({i, static_cast<int>((k - first) / 3)});
     if (L.lights[i]->isInfinite()) L.infinite.push_back(i);
@@ -115,12 +115,14 @@ PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& mate
     L.lights[i]->preprocess(ls);
     const std::vector<int> tris = L.lights[i]->emittingTriangles();
     for (size_t k = 0; k < tris.size(); ++k)
-      if (tris[k] >= 0 && tris[k] < static_cast<int>(nt)) L.meshTriEmitter[tris[k]] = {i, static_cast<int>(k)};
+      if (tris[k] >= 0 && tris[k] < static_cast<int>(nt))
+        L.meshTriEmitter[tris[k]] = {i, static_cast<int>(k)};
     emitterTris += tris.size();
   }
   setupSeconds_ = timer.seconds();
   spdlog::info(
-      "path tracer: {} triangles, BVH {:.3f}s, {} lights, {} emitter triangles, {} window triangles, setup "
+      "path tracer: {} triangles, BVH {:.3f}s, {} lights, {} emitter triangles, {} window "
+      "triangles, setup "
       "{:.3f}s",
       nt, accel_->buildSeconds(), nl, emitterTris, openingTris, setupSeconds_);
 }
@@ -221,8 +223,8 @@ struct Tracer final : LightRays {
   const RayAccel& accel;
   mutable uint64_t rays = 0;
 
-  Tracer(const PathTracer& pt_, const PathTracer::Lights& L_, const ActiveLights& act_, const RenderOptions& opt_,
-         const RayAccel& accel_)
+  Tracer(const PathTracer& pt_, const PathTracer::Lights& L_, const ActiveLights& act_,
+         const RenderOptions& opt_, const RayAccel& accel_)
       : pt(pt_), L(L_), act(act_), opt(opt_), accel(accel_) {}
 
   // Closest non-opening hit; opening parts (windows) are passed through.
@@ -271,8 +273,8 @@ struct Tracer final : LightRays {
   // Picks a light with uSel (the remapped number goes on to the light), samples it from x and
   // tests visibility from `org` (x offset off the surface). False when nothing visible was
   // sampled.
-  bool sampleVisibleLight(const Vec3f& x, const Vec3f& org, const Vec3f& ngo, float uSel, const Vec2f& uPt,
-                          LightSample* ls) const {
+  bool sampleVisibleLight(const Vec3f& x, const Vec3f& org, const Vec3f& ngo, float uSel,
+                          const Vec2f& uPt, LightSample* ls) const {
     if (act.select.empty()) return false;
     float selPdf = 0, uRe = 0;
     const int i = act.select.sample(uSel, &selPdf, &uRe);
@@ -322,14 +324,16 @@ struct Tracer final : LightRays {
           lh.dir = dir;
           lh.escape = esc;
           const Vec3f Le = L.lights[i]->L(lh).cwiseProduct(act.scale[i]);
-          const float w =
-              (depth == 0 || !nee || prevPdf <= 0) ? 1.0f : powerHeuristic(prevPdf, lightPdf(i, prevPos, lh));
+          const float w = (depth == 0 || !nee || prevPdf <= 0)
+                              ? 1.0f
+                              : powerHeuristic(prevPdf, lightPdf(i, prevPos, lh));
           Lsum += beta.cwiseProduct(Le) * w;
         }
         break;
       }
       // emission
-      const PathTracer::Lights::Prim em = hit.geom == 1 ? L.shapePrim[hit.prim] : L.meshTriEmitter[hit.prim];
+      const PathTracer::Lights::Prim em =
+          hit.geom == 1 ? L.shapePrim[hit.prim] : L.meshTriEmitter[hit.prim];
       if (em.light >= 0) {
         LightHit lh;
         lh.dir = dir;
@@ -338,7 +342,8 @@ struct Tracer final : LightRays {
         const Vec3f Le = L.lights[em.light]->L(lh).cwiseProduct(act.scale[em.light]);
         if (Le.maxCoeff() > 0) {
           float w = 1.0f;
-          if (depth > 0 && nee && prevPdf > 0) w = powerHeuristic(prevPdf, lightPdf(em.light, prevPos, lh));
+          if (depth > 0 && nee && prevPdf > 0)
+            w = powerHeuristic(prevPdf, lightPdf(em.light, prevPos, lh));
           Lsum += beta.cwiseProduct(Le) * w;
         }
       }
@@ -445,15 +450,18 @@ class FilterSampler {
   std::vector<float> cdf_;
 };
 
-ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L, const LightSelection& sel) {
+ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L,
+                        const LightSelection& sel) {
   ActiveLights act;
   const std::vector<const Light*> sceneLights = scene.lights.all();
   const size_t n = sceneLights.size();
-  PS_Check(n == L.lights.size(), "path tracer: the scene has " << n << " lights, the tracer was built with "
-                                                                << L.lights.size());
-  const int one = sel.kind == LightSelection::Kind::One                ? sel.index
-                  : sel.kind == LightSelection::Kind::EnvironmentOnly ? scene.lights.environmentIndex()
-                                                                      : -1;
+  PS_Check(n == L.lights.size(), "path tracer: the scene has "
+                                     << n << " lights, the tracer was built with "
+                                     << L.lights.size());
+  const int one = sel.kind == LightSelection::Kind::One ? sel.index
+                  : sel.kind == LightSelection::Kind::EnvironmentOnly
+                      ? scene.lights.environmentIndex()
+                      : -1;
   act.scale.assign(n, Vec3f::Zero());
   act.on.assign(n, 0);
   std::vector<float> w(n, 0.0f);
@@ -462,8 +470,9 @@ ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L, const L
     Vec3f rad = Vec3f::Zero();
     if (sel.kind == LightSelection::Kind::All) {
       const std::optional<Vec3f> s = sceneLights[i]->scale();
-      PS_Check(s.has_value(), sceneLights[i]->type() << " light '" << sceneLights[i]->label()
-                                                     << "' has no radiance: give one, or render one light at a time");
+      PS_Check(s.has_value(), sceneLights[i]->type()
+                                  << " light '" << sceneLights[i]->label()
+                                  << "' has no radiance: give one, or render one light at a time");
       rad = *s;
       on = true;
     } else if (static_cast<int>(i) == one) {

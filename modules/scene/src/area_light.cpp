@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "light_geometry.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/scene/lights.hpp"
@@ -57,8 +59,22 @@ std::vector<int> AreaLight::emittingParts() const {
   return {};
 }
 
-void AreaLight::shapes(std::vector<Vec3f>* v) const {
+std::string AreaLight::describe(const std::vector<Part>& parts) const {
+  const std::string what =
+      kind == Kind::Part
+          ? "part " + (partId >= 0 && partId < static_cast<int>(parts.size()) ? parts[partId].name
+                                                                              : std::string("?"))
+          : fmt::format("rectangle at ({:.2f}, {:.2f}, {:.2f}), {:.2f} m2", center.x(), center.y(),
+                        center.z(), rectangleArea());
+  const std::string rad = radiance ? fmt::format("radiance ({:.3g}, {:.3g}, {:.3g})", radiance->x(),
+                                                 radiance->y(), radiance->z())
+                                   : std::string("radiance to fit");
+  return what + ", " + rad + (automatic ? " (automatic)" : "");
+}
+
+void AreaLight::shapes(std::vector<Vec3f>* v, std::vector<Vec3f>* normals) const {
   if (kind != Kind::Rectangle) return;
+  if (normals) normals->insert(normals->end(), 6, normal());
   const Vec3f hu = 0.5f * edgeU, hv = 0.5f * edgeV;
   const Vec3f c[4] = {center - hu - hv, center + hu - hv, center + hu + hv, center - hu + hv};
   // winding so that (p1 - p0) x (p2 - p0) is along edgeU x edgeV
@@ -95,7 +111,7 @@ void AreaLight::preprocess(const LightScene& scene) {
     }
   } else {
     std::vector<Vec3f> v;
-    shapes(&v);
+    shapes(&v, nullptr);
     for (size_t k = 0; k + 2 < v.size(); k += 3) {
       EmitterTriangle tri;
       tri.p0 = v[k];

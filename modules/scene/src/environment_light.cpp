@@ -2,6 +2,8 @@
 // parts or by every ray that leaves the scene.
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "light_geometry.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/io/image_io.hpp"
@@ -63,6 +65,11 @@ nlohmann::json EnvironmentLight::toJson(const LightJsonContext& ctx) const {
   }
   e["window_parts"] = names;
   return e;
+}
+
+std::string EnvironmentLight::describe(const std::vector<Part>&) const {
+  return fmt::format("{}, {} window parts", image.empty() ? "constant" : "image",
+                     windowParts.size());
 }
 
 Vec2f EnvironmentLight::directionToUv(const Vec3f& dirWorld) const {

@@ -80,6 +80,12 @@ std::unique_ptr<Light> LightRegistry::create(const io::JsonValue& entry,
   return light;
 }
 
+std::string Light::describe(const std::vector<Part>& parts) const {
+  LightJsonContext ctx;
+  ctx.parts = &parts;
+  return toJson(ctx).dump();
+}
+
 // ---------------------------------------------------------------------------------------------
 
 std::vector<const Light*> LightSet::all() const {

@@ -19,15 +19,14 @@ int Scene::partId(const std::string& name) const {
   return -1;
 }
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 namespace {
 
 // Lights of registered types (any "type" but "area"), through ps::LightRegistry.
-void addRegistered(LightSet* set, const std::vector<io::RegisteredLightDesc>& descs, const std::vector<Part>& parts,
-                   const Vec3f& up, const std::string& file, bool loadImages) {
+void addRegistered(LightSet* set, const std::vector<io::RegisteredLightDesc>& descs,
+                   const std::vector<Part>& parts, const Vec3f& up, const std::string& file,
+                   bool loadImages) {
   LightJsonContext ctx;
   ctx.parts = &parts;
   ctx.baseDir = fs::path(file).parent_path();
@@ -35,7 +34,8 @@ void addRegistered(LightSet* set, const std::vector<io::RegisteredLightDesc>& de
   ctx.file = file;
   ctx.up = up;
   ctx.loadImages = loadImages;
-  for (const io::RegisteredLightDesc& d : descs) set->add(LightRegistry::create(io::JsonValue(d.json, file, d.key), ctx));
+  for (const io::RegisteredLightDesc& d : descs)
+    set->add(LightRegistry::create(io::JsonValue(d.json, file, d.key), ctx));
 }
 
 }  // namespace
@@ -44,7 +44,8 @@ LightSet makeLights(const io::LightsDesc& desc, const Mesh& mesh, const std::vec
                     const Vec3f& up, const std::string& file, bool loadEnvironment) {
   LightSet set;
   for (size_t i = 0; i < desc.area.size(); ++i)
-    set.area.push_back(AreaLight::fromDesc(desc.area[i], parts, file, "lights.area[" + std::to_string(i) + "]"));
+    set.area.push_back(
+        AreaLight::fromDesc(desc.area[i], parts, file, "lights.area[" + std::to_string(i) + "]"));
   addRegistered(&set, desc.registered, parts, up, file, loadEnvironment);
   if (set.area.empty() && set.registered.empty()) {
     set.area = autoCeilingLights(mesh, up, static_cast<float>(desc.autoCeilingSpacing));
@@ -52,7 +53,8 @@ LightSet makeLights(const io::LightsDesc& desc, const Mesh& mesh, const std::vec
                  desc.autoCeilingSpacing);
   }
   if (desc.environment)
-    set.environment = EnvironmentLight::fromDesc(*desc.environment, parts, up, file, "lights.environment", loadEnvironment);
+    set.environment = EnvironmentLight::fromDesc(*desc.environment, parts, up, file,
+                                                 "lights.environment", loadEnvironment);
   return set;
 }
 
@@ -61,10 +63,12 @@ LightSet makeLights(const io::LightsFileDesc& desc, const Mesh& mesh, const std:
   (void)mesh;
   LightSet set;
   for (size_t i = 0; i < desc.emitters.size(); ++i)
-    set.area.push_back(AreaLight::fromDesc(desc.emitters[i], parts, file, "emitters[" + std::to_string(i) + "]"));
+    set.area.push_back(
+        AreaLight::fromDesc(desc.emitters[i], parts, file, "emitters[" + std::to_string(i) + "]"));
   addRegistered(&set, desc.registered, parts, up, file, true);
   if (desc.environment)
-    set.environment = EnvironmentLight::fromDesc(*desc.environment, parts, up, file, "environment", true);
+    set.environment =
+        EnvironmentLight::fromDesc(*desc.environment, parts, up, file, "environment", true);
   return set;
 }
 
@@ -102,7 +106,8 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
   scene.mesh = meshFromObj(obj, &scene.parts, scene.up);
 
   // Part names used anywhere must exist in the OBJ.
-  for (const auto& [name, part] : desc.parts) requirePartId(scene.parts, name, file, "parts." + name);
+  for (const auto& [name, part] : desc.parts)
+    requirePartId(scene.parts, name, file, "parts." + name);
 
   for (size_t i = 0; i < desc.views.size(); ++i) {
     const io::ViewDesc& vd = desc.views[i];
@@ -168,11 +173,14 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
   int degenerate = 0;
   for (size_t t = 0; t < scene.mesh.numTriangles(); ++t)
     if (scene.mesh.area(static_cast<int>(t)) < 1e-12f) ++degenerate;
-  spdlog::info("scene {}: {} triangles ({} degenerate), {} parts, {} views, {} area lights{}{} ({:.2f}s)",
-               sceneJson.filename().string(), scene.mesh.numTriangles(), degenerate, scene.parts.size(),
-               scene.views.size(), scene.lights.area.size(),
-               scene.lights.registered.empty() ? "" : fmt::format(" + {} registered", scene.lights.registered.size()),
-               scene.lights.environment ? " + environment" : "", timer.seconds());
+  spdlog::info(
+      "scene {}: {} triangles ({} degenerate), {} parts, {} views, {} area lights{}{} ({:.2f}s)",
+      sceneJson.filename().string(), scene.mesh.numTriangles(), degenerate, scene.parts.size(),
+      scene.views.size(), scene.lights.area.size(),
+      scene.lights.registered.empty()
+          ? ""
+          : fmt::format(" + {} registered", scene.lights.registered.size()),
+      scene.lights.environment ? " + environment" : "", timer.seconds());
   return scene;
 }
 

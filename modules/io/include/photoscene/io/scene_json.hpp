@@ -55,8 +55,8 @@ struct EnvironmentDesc {
 /// into a ps::Light by the scene module (ps::LightRegistry), which checks it.
 struct RegisteredLightDesc {
   std::string type;
-  std::string key;       ///< where it is in its file ("lights.area[2]", "emitters[0]")
-  nlohmann::json json;   ///< the entry as written (relative paths unresolved)
+  std::string key;      ///< where it is in its file ("lights.area[2]", "emitters[0]")
+  nlohmann::json json;  ///< the entry as written (relative paths unresolved)
 };
 
 struct LightsDesc {
@@ -120,13 +120,14 @@ nlohmann::json cameraToJson(const CameraDesc& camera);
 /// lights.json: emitters with radiance, optional environment, per-view exposure.
 struct LightsFileDesc {
   std::vector<AreaLightDesc> emitters;
-  std::vector<RegisteredLightDesc> registered;  ///< emitters with a "type" other than "area" (written after `emitters`)
+  std::vector<RegisteredLightDesc>
+      registered;  ///< emitters with a "type" other than "area" (written after `emitters`)
   std::optional<EnvironmentDesc> environment;
   std::vector<double> exposure;
 };
 LightsFileDesc readLightsJson(const fs::path& path);
-/// Parses one area emitter (scene.json's lights.area[i], lights.json's emitters[i]); `radianceRequired`
-/// for lights.json. "type", when present, must be "area".
+/// Parses one area emitter (scene.json's lights.area[i], lights.json's emitters[i]);
+/// `radianceRequired` for lights.json. "type", when present, must be "area".
 AreaLightDesc parseAreaLight(const JsonValue& entry, bool radianceRequired);
 /// Parses an environment object; a relative image path resolves against `baseDir`.
 EnvironmentDesc parseEnvironment(const JsonValue& env, const fs::path& baseDir);

@@ -4,9 +4,9 @@
 // triangles lights add to the scene (Light::shapes(): a rectangle emitter is two), in the order
 // given to the constructor. Build once per scene; queries are thread-safe.
 //
-//   std::vector<ps::Vec3f> shapes;  for (const ps::Light* l : scene.lights.all()) l->shapes(&shapes);
-//   ps::RayAccel accel(scene.mesh, shapes);
-//   ps::RayHit hit = accel.intersect(origin, dir);   // hit.valid() ...
+//   std::vector<ps::Vec3f> shapes;  for (const ps::Light* l : scene.lights.all())
+//   l->shapes(&shapes); ps::RayAccel accel(scene.mesh, shapes); ps::RayHit hit =
+//   accel.intersect(origin, dir);   // hit.valid() ...
 #pragma once
 
 #include <memory>
@@ -46,7 +46,9 @@ class RayAccel {
   const Mesh& mesh() const { return mesh_; }
   /// The index into the constructor's `lights` of light-shape primitive `prim` (-1 when built
   /// from shape vertices).
-  int rectangleLight(int prim) const { return prim < static_cast<int>(shapeLight_.size()) ? shapeLight_[prim] : -1; }
+  int rectangleLight(int prim) const {
+    return prim < static_cast<int>(shapeLight_.size()) ? shapeLight_[prim] : -1;
+  }
   /// Corners of light-shape triangle `prim`.
   void rectangleTriangle(int prim, Vec3f* p0, Vec3f* p1, Vec3f* p2) const;
   double buildSeconds() const { return buildSeconds_; }

@@ -4,33 +4,35 @@
 // incident-light grids and the light solve use only this interface, so a new light type is one
 // file (a class derived from ps::Light) plus one registration line:
 //
-//   class PointLight final : public ps::Light {
+// clang-format off
+//   class PointLight final : public ps::Light {   // point_light.cpp
 //    public:
+//     std::string name;
 //     ps::Vec3f position = ps::Vec3f::Zero();
-//     std::optional<ps::Vec3f> intensity;                        // W / sr per channel
+//     std::optional<ps::Vec3f> intensity;   // W / sr per channel; absent: to be fitted
 //     std::string type() const override { return "point"; }
-//     std::string label() const override { return name_; }
-//     std::unique_ptr<ps::Light> clone() const override { return
-//     std::make_unique<PointLight>(*this); } std::optional<ps::Vec3f> scale() const override {
-//     return intensity; } void setScale(const ps::Vec3f& s) override { intensity = s; } bool
-//     isDeltaPosition() const override { return true; } float power(const ps::Vec3f& s) const
-//     override { return 4 * ps::kPi * ps::luminanceOf(s); } bool sampleLi(const
-//     ps::LightSampleContext& ctx, float, const ps::Vec2f&,
+//     std::string label() const override { return name; }
+//     std::unique_ptr<ps::Light> clone() const override { return std::make_unique<PointLight>(*this); }
+//     std::optional<ps::Vec3f> scale() const override { return intensity; }
+//     void setScale(const ps::Vec3f& s) override { intensity = s; }
+//     bool isDeltaPosition() const override { return true; }
+//     float power(const ps::Vec3f& s) const override { return 4 * ps::kPi * ps::luminanceOf(s); }
+//     bool sampleLi(const ps::LightSampleContext& ctx, float, const ps::Vec2f&,
 //                   ps::LightLiSample* out) const override {
 //       const ps::Vec3f d = position - ctx.p;
-//       out->dist = d.norm();  out->wi = d / out->dist;
+//       out->dist = d.norm();
+//       out->wi = d / out->dist;
 //       if (out->wi.dot(ctx.n) <= 0) return false;
-//       out->L = ps::Vec3f::Constant(1 / (out->dist * out->dist));   // per unit intensity
-//       out->pdf = ctx.selectionPdf;                                 // a delta in direction
+//       out->L = ps::Vec3f::Constant(1 / d.squaredNorm());  // for unit intensity
+//       out->pdf = ctx.selectionPdf;                        // a delta in direction
 //       return ctx.rays->unoccluded(ctx.org, position);
 //     }
-//     nlohmann::json toJson(const ps::LightJsonContext&) const override { ... }
-//     static std::unique_ptr<ps::Light> fromJson(const ps::io::JsonValue& e,
-//                                                const ps::LightJsonContext& ctx) { ... }
-//    private:
-//     std::string name_;
+//     nlohmann::json toJson(const ps::LightJsonContext&) const override;  // {"type": "point", ...}
+//     static std::unique_ptr<ps::Light> fromJson(const ps::io::JsonValue& entry,
+//                                                const ps::LightJsonContext& ctx);
 //   };
 //   PS_REGISTER_LIGHT("point", PointLight::fromJson);   // lights.json: {"type": "point", ...}
+// clang-format on
 //
 // (modules/raytrace/test/test_light_registry.cpp is that light, complete, with a test that
 // renders it.)
@@ -164,9 +166,12 @@ class Light {
   /// Parts that are openings onto this light: rays pass through them, they get no material.
   virtual std::vector<int> openingParts() const { return {}; }
   /// Triangles this light adds to the scene (emitting surfaces that are not mesh parts, e.g. a
-  /// rectangle): three vertices each, appended to `vertices`. Their order is the light's
-  /// primitive numbering in LightHit.
-  virtual void shapes(std::vector<Vec3f>* vertices) const { (void)vertices; }
+  /// rectangle): three vertices each, appended to `vertices`, and (when `normals` is given) the
+  /// unit emission direction at each vertex. Their order is the light's primitive numbering in
+  /// LightHit.
+  virtual void shapes(std::vector<Vec3f>* vertices, std::vector<Vec3f>* normals) const {
+    (void)vertices, (void)normals;
+  }
 
   /// Builds the sampling tables against the scene (after which the light is ready to sample).
   virtual void preprocess(const LightScene& scene) { (void)scene; }
@@ -196,6 +201,9 @@ class Light {
 
   /// The lights.json entry of this light ("type" included; paths relative to ctx.baseDir).
   virtual nlohmann::json toJson(const LightJsonContext& ctx) const = 0;
+  /// One line for people (`photoscene check`): what the light is and its scale. The default
+  /// is the lights.json entry.
+  virtual std::string describe(const std::vector<Part>& parts) const;
 
  protected:
   Light() = default;

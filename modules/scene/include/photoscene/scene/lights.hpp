@@ -66,21 +66,24 @@ class AreaLight final : public Light {
   std::optional<Vec3f> scale() const override { return radiance; }
   void setScale(const Vec3f& s) override { radiance = s; }
   std::vector<int> emittingParts() const override;
-  void shapes(std::vector<Vec3f>* vertices) const override;
+  void shapes(std::vector<Vec3f>* vertices, std::vector<Vec3f>* normals) const override;
   void preprocess(const LightScene& scene) override;
   std::vector<int> emittingTriangles() const override { return meshTriangles_; }
   float power(const Vec3f& scale) const override;
-  bool sampleLi(const LightSampleContext& ctx, float u1, const Vec2f& u2, LightLiSample* out) const override;
+  bool sampleLi(const LightSampleContext& ctx, float u1, const Vec2f& u2,
+                LightLiSample* out) const override;
   Vec3f L(const LightHit& hit) const override;
   float pdfLi(const LightSampleContext& ctx, const LightHit& hit) const override;
   nlohmann::json toJson(const LightJsonContext& ctx) const override;
+  std::string describe(const std::vector<Part>& parts) const override;
 
  private:
   // sampling tables (preprocess)
-  std::vector<EmitterTriangle> tris_;  // the light's primitives (mesh triangles or its rectangle's two)
-  std::vector<int> meshTriangles_;     // Kind::Part: the mesh triangle of each of tris_
-  std::vector<int> sampled_;           // tris_ with a positive area: what sampleLi draws from
-  Distribution1D dist_;                // over sampled_, by area
+  std::vector<EmitterTriangle>
+      tris_;  // the light's primitives (mesh triangles or its rectangle's two)
+  std::vector<int> meshTriangles_;  // Kind::Part: the mesh triangle of each of tris_
+  std::vector<int> sampled_;        // tris_ with a positive area: what sampleLi draws from
+  Distribution1D dist_;             // over sampled_, by area
   float totalArea_ = 0;
   EmitterRectangle rect_;
 };
@@ -116,17 +119,21 @@ class EnvironmentLight final : public Light {
   // ps::Light
   std::string type() const override { return "environment"; }
   std::string label() const override { return "environment"; }
-  std::unique_ptr<Light> clone() const override { return std::make_unique<EnvironmentLight>(*this); }
+  std::unique_ptr<Light> clone() const override {
+    return std::make_unique<EnvironmentLight>(*this);
+  }
   std::optional<Vec3f> scale() const override { return radiance; }
   void setScale(const Vec3f& s) override { radiance = s; }
   bool isInfinite() const override { return true; }
   std::vector<int> openingParts() const override { return windowParts; }
   void preprocess(const LightScene& scene) override;
   float power(const Vec3f& scale) const override;
-  bool sampleLi(const LightSampleContext& ctx, float u1, const Vec2f& u2, LightLiSample* out) const override;
+  bool sampleLi(const LightSampleContext& ctx, float u1, const Vec2f& u2,
+                LightLiSample* out) const override;
   Vec3f L(const LightHit& hit) const override;
   float pdfLi(const LightSampleContext& ctx, const LightHit& hit) const override;
   nlohmann::json toJson(const LightJsonContext& ctx) const override;
+  std::string describe(const std::vector<Part>& parts) const override;
 
  private:
   Vec3f unitRadianceFrom(const Vec3f& dir) const;  // the lookup at radiance 1
@@ -140,8 +147,8 @@ class EnvironmentLight final : public Light {
   std::vector<int> meshTriWindow_;  // mesh triangle -> windowTris_ index or -1
   Distribution1D windowDist_;
   float windowArea_ = 0;
-  EmitterRectangle windowRect_;     // all window triangles, when they form one rectangle
-  Distribution2D envDist_;          // image importance (by luminance x sin(theta))
+  EmitterRectangle windowRect_;  // all window triangles, when they form one rectangle
+  Distribution2D envDist_;       // image importance (by luminance x sin(theta))
   float envMeanLum_ = 1;
   /// With windows: sum over window triangles of area x the environment's luminance through them
   /// weighted by |cos| to the window (over the outward hemisphere) / pi: the power that enters,
