@@ -44,9 +44,11 @@ int main(int argc, char** argv) {
     data.mask = labelled;
     data.perLight = perLight;
     const ps::lighting::LightSolution s = ps::lighting::solveLights({data});
-    for (size_t k = 0; k < scene.lights.area.size(); ++k)
-      std::printf("%-12s radiance (%.2f, %.2f, %.2f)%s\n", scene.lights.area[k].name.c_str(), s.intensity[k].x(),
-                  s.intensity[k].y(), s.intensity[k].z(), s.dropped[k] ? " (dropped)" : "");
+    const auto lights = scene.lights.all();  // the order of renderPerLight
+    for (size_t k = 0; k < lights.size(); ++k)
+      std::printf("%-12s radiance (%.2f, %.2f, %.2f)%s\n", lights[k]->label().c_str(),
+                  s.intensity[k].x(), s.intensity[k].y(), s.intensity[k].z(),
+                  s.dropped[k] ? " (dropped)" : "");
     std::printf("residual rms %.4f of photo rms %.4f\n", s.residualRms, s.photoRms);
     return 0;
   } catch (const ps::InputError& e) {

@@ -26,19 +26,11 @@ void printSummary(const Scene& scene) {
                v.segments.empty() ? std::string("no segments")
                                   : fmt::format("segments with {} pinned regions", v.segmentParts.size()));
   }
-  for (const AreaLight& l : scene.lights.area) {
-    const std::string what = l.kind == AreaLight::Kind::Part
-                                 ? "part " + scene.parts[l.partId].name
-                                 : fmt::format("rectangle at ({:.2f}, {:.2f}, {:.2f}), {:.2f} m2", l.center.x(),
-                                               l.center.y(), l.center.z(), l.rectangleArea());
-    const std::string radiance =
-        l.radiance ? fmt::format("radiance ({:.3g}, {:.3g}, {:.3g})", l.radiance->x(), l.radiance->y(), l.radiance->z())
-                   : std::string("radiance to fit");
-    fmt::print("light      {:<12} {}, {}{}\n", l.name, what, radiance, l.automatic ? " (automatic)" : "");
-  }
-  if (scene.lights.environment) {
-    const auto& e = *scene.lights.environment;
-    fmt::print("environment {}, {} window parts\n", e.image.empty() ? "constant" : "image", e.windowParts.size());
+  for (const Light* l : scene.lights.all()) {
+    if (l->isInfinite())
+      fmt::print("{} {}\n", l->type(), l->describe(scene.parts));
+    else
+      fmt::print("light      {:<12} {}\n", l->label(), l->describe(scene.parts));
   }
 }
 }  // namespace

@@ -87,13 +87,13 @@ double geometricMean(const std::vector<double>& v) {
 }
 
 void requireRadiance(const Scene& scene, const std::string& file) {
-  for (size_t i = 0; i < scene.lights.area.size(); ++i)
-    if (!scene.lights.area[i].radiance)
-      throw InputError(file, "emitters[" + std::to_string(i) + "].radiance",
-                       "a radiance for emitter '" + scene.lights.area[i].name +
-                           "' (the twin must be renderable)");
-  if (scene.lights.area.empty() && !scene.lights.environment)
-    throw InputError(file, "emitters", "at least one emitter or an environment");
+  const std::vector<const Light*> lights = scene.lights.all();
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (!lights[i]->scale())
+      throw InputError(
+          file, "emitters[" + std::to_string(i) + "].radiance",
+          "a radiance for emitter '" + lights[i]->label() + "' (the twin must be renderable)");
+  if (lights.empty()) throw InputError(file, "emitters", "at least one emitter or an environment");
 }
 
 /// Index into `list` of the emitter that corresponds to `e`: same part, same name, or the
@@ -165,6 +165,13 @@ LightSet relitLights(const Scene& twin, const GroundTruthRender& gt,
     const Vec3d r = j >= 0 ? ratios[j] : mean;
     if (j < 0) ++unmatched;
     if (a.radiance) *a.radiance = a.radiance->cwiseProduct(r.cast<float>());
+  }
+  // lights of registered types are not matched (their entries carry type-specific keys): they
+  // follow the mean ratio
+  for (LightHandle& h : set.registered) {
+    ++unmatched;
+    if (const std::optional<Vec3f> sc = h->scale())
+      h->setScale(sc->cwiseProduct(mean.cast<float>()));
   }
   if (unmatched > 0 && notes)
     notes->push_back(gt.name + ": " + std::to_string(unmatched) +
@@ -271,10 +278,10 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
 
   // Parts that carry no material: windows and emitters.
   std::vector<uint8_t> noMaterial(twin.scene.parts.size(), 0);
-  if (twin.scene.lights.environment)
-    for (int p : twin.scene.lights.environment->windowParts) noMaterial[p] = 1;
-  for (const AreaLight& a : twin.scene.lights.area)
-    if (a.kind == AreaLight::Kind::Part && a.partId >= 0) noMaterial[a.partId] = 1;
+  for (int p : twin.scene.lights.openingParts())
+    if (p >= 0 && p < static_cast<int>(noMaterial.size())) noMaterial[p] = 1;
+  for (int p : twin.scene.lights.emittingParts())
+    if (p >= 0 && p < static_cast<int>(noMaterial.size())) noMaterial[p] = 1;
 
   std::map<std::string, PartScore> bestPart;
   for (size_t i = 0; i < input.views.size(); ++i) {

@@ -57,8 +57,13 @@ void checkRigid(const JsonValue& v, const Mat4d& m) {
   }
 }
 
+}  // namespace
+
 EnvironmentDesc parseEnvironment(const JsonValue& env, const fs::path& baseDir) {
-  warnUnknownKeys(env, {"image", "window_parts", "radiance", "strength", "rotation_deg"});
+  warnUnknownKeys(env, {"type", "image", "window_parts", "radiance", "strength", "rotation_deg"});
+  if (auto t = env.get("type")) {
+    if (t->string() != "environment") t->fail("\"environment\"");
+  }
   EnvironmentDesc e;
   if (auto img = env.get("image")) e.image = resolvePath(baseDir, requireNonEmptyString(*img));
   if (auto r = env.get("radiance")) {
@@ -98,7 +103,11 @@ AreaLightDesc parseAreaLight(const JsonValue& a, bool radianceRequired) {
   return l;
 }
 
-}  // namespace
+std::string emitterType(const JsonValue& a) {
+  if (!a.isObject()) a.fail("an object with \"part\" or \"center\", \"edge_u\", \"edge_v\"");
+  if (auto t = a.get("type")) return requireNonEmptyString(*t);
+  return "area";
+}
 
 Mat4d lookAtWorldToCamera(const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
   Vec3d forward = target - eye;
@@ -246,6 +255,11 @@ SceneDesc readSceneJson(const fs::path& path) {
     warnUnknownKeys(*lights, {"area", "auto_ceiling_spacing", "environment"});
     if (auto area = lights->get("area")) {
       for (size_t i = 0; i < area->size(); ++i) {
+        const std::string type = emitterType((*area)[i]);
+        if (type != "area") {
+          scene.lights.registered.push_back({type, (*area)[i].path(), (*area)[i].raw()});
+          continue;
+        }
         AreaLightDesc l = parseAreaLight((*area)[i], false);
         if (l.name.empty()) l.name = l.part ? *l.part : "area_" + std::to_string(i);
         scene.lights.area.push_back(std::move(l));
@@ -301,6 +315,11 @@ LightsFileDesc readLightsJson(const fs::path& path) {
   LightsFileDesc out;
   if (auto em = root.get("emitters")) {
     for (size_t i = 0; i < em->size(); ++i) {
+      const std::string type = emitterType((*em)[i]);
+      if (type != "area") {
+        out.registered.push_back({type, (*em)[i].path(), (*em)[i].raw()});
+        continue;
+      }
       AreaLightDesc l = parseAreaLight((*em)[i], true);
       if (l.name.empty()) l.name = l.part ? *l.part : "emitter_" + std::to_string(i);
       out.emitters.push_back(std::move(l));
@@ -332,6 +351,7 @@ void writeLightsJson(const fs::path& path, const LightsFileDesc& lights) {
     e["radiance"] = {r.x(), r.y(), r.z()};
     j["emitters"].push_back(e);
   }
+  for (const auto& r : lights.registered) j["emitters"].push_back(r.json);
   if (lights.environment) {
     const auto& env = *lights.environment;
     nlohmann::json e;

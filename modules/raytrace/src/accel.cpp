@@ -43,31 +43,37 @@ void attachTriangles(RTCDevice device, RTCScene scene, const std::vector<Vec3f>&
 }
 }  // namespace
 
+RayAccel::RayAccel(const Mesh& mesh, const std::vector<Vec3f>& shapeVertices)
+    : impl_(new Impl), mesh_(mesh) {
+  build(shapeVertices);
+}
+
 RayAccel::RayAccel(const Mesh& mesh, const std::vector<AreaLight>& lights) : impl_(new Impl), mesh_(mesh) {
+  std::vector<Vec3f> v;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const size_t first = v.size();
+    lights[i].shapes(&v, nullptr);
+    for (size_t k = first; k + 2 < v.size(); k += 3) shapeLight_.push_back(static_cast<int>(i));
+  }
+  build(v);
+}
+
+void RayAccel::build(const std::vector<Vec3f>& shapeVertices) {
   Timer timer;
   impl_->device = rtcNewDevice(nullptr);
   PS_Check(impl_->device, "rtcNewDevice failed: " << rtcGetDeviceError(nullptr));
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  PS_Check(!mesh.triangles.empty(), "RayAccel: empty mesh");
-  attachTriangles(impl_->device, impl_->scene, mesh.positions, mesh.triangles, 0);
-  std::vector<Eigen::Vector3i> rectTris;
-  for (size_t i = 0; i < lights.size(); ++i) {
-    const AreaLight& l = lights[i];
-    if (l.kind != AreaLight::Kind::Rectangle) continue;
-    const int base = static_cast<int>(rectVertices_.size());
-    const Vec3f hu = 0.5f * l.edgeU, hv = 0.5f * l.edgeV;
-    rectVertices_.push_back(l.center - hu - hv);
-    rectVertices_.push_back(l.center + hu - hv);
-    rectVertices_.push_back(l.center + hu + hv);
-    rectVertices_.push_back(l.center - hu + hv);
-    // winding so that (p1 - p0) x (p2 - p0) is along edgeU x edgeV
-    rectTris.emplace_back(base, base + 1, base + 2);
-    rectTris.emplace_back(base, base + 2, base + 3);
-    rectLightIndex_.push_back(static_cast<int>(i));
-  }
-  if (!rectTris.empty()) attachTriangles(impl_->device, impl_->scene, rectVertices_, rectTris, 1);
+  PS_Check(!mesh_.triangles.empty(), "RayAccel: empty mesh");
+  attachTriangles(impl_->device, impl_->scene, mesh_.positions, mesh_.triangles, 0);
+  PS_Check(shapeVertices.size() % 3 == 0, "RayAccel: light shapes are triangles (3 vertices each)");
+  shapeVertices_ = shapeVertices;
+  std::vector<Eigen::Vector3i> shapeTris;
+  for (int k = 0; 3 * k < static_cast<int>(shapeVertices_.size()); ++k)
+    shapeTris.emplace_back(3 * k, 3 * k + 1, 3 * k + 2);
+  if (!shapeTris.empty())
+    attachTriangles(impl_->device, impl_->scene, shapeVertices_, shapeTris, 1);
   rtcCommitScene(impl_->scene);
   const RTCError err = rtcGetDeviceError(impl_->device);
   PS_Check(err == RTC_ERROR_NONE, "Embree error " << static_cast<int>(err) << " while building the BVH");
@@ -77,15 +83,9 @@ RayAccel::RayAccel(const Mesh& mesh, const std::vector<AreaLight>& lights) : imp
 RayAccel::~RayAccel() = default;
 
 void RayAccel::rectangleTriangle(int prim, Vec3f* p0, Vec3f* p1, Vec3f* p2) const {
-  const int base = 4 * (prim / 2);
-  *p0 = rectVertices_[base];
-  if (prim % 2 == 0) {
-    *p1 = rectVertices_[base + 1];
-    *p2 = rectVertices_[base + 2];
-  } else {
-    *p1 = rectVertices_[base + 2];
-    *p2 = rectVertices_[base + 3];
-  }
+  *p0 = shapeVertices_[3 * prim];
+  *p1 = shapeVertices_[3 * prim + 1];
+  *p2 = shapeVertices_[3 * prim + 2];
 }
 
 RayHit RayAccel::intersect(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {

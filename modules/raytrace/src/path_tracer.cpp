@@ -5,19 +5,15 @@
 #include <algorithm>
 #include <atomic>
 
-#include "distribution.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/raytrace/sampler.hpp"
-#include "photoscene/raytrace/spherical_rectangle.hpp"
+#include "photoscene/scene/distribution.hpp"
 
 namespace ps {
 
 namespace {
-inline float luminance(const Vec3f& c) {
-  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
-}
 inline float powerHeuristic(float a, float b) {
   const float a2 = a * a, b2 = b * b;
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
@@ -28,127 +24,47 @@ inline float offsetScale(const Vec3f& p) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Emitter tables
+// The prepared lights
 
 struct PathTracer::Lights {
-  struct Tri {
-    Vec3f p0, e1, e2, n;  // n: unit emission direction (area lights) or geometric normal (windows)
-    float area;
-    int light;
+  /// Clones of scene.lights.all(), preprocessed against the mesh (their scale is read from the
+  /// scene at every render call).
+  std::vector<std::unique_ptr<Light>> lights;
+  struct Prim {
+    int light = -1, prim = -1;  // light index, the light's own primitive
   };
-  std::vector<Tri> tris;                  // area-emitter triangles
-  std::vector<Distribution1D> lightTris;  // per area light: over its entries of lightTriIndex
-  std::vector<std::vector<int>> lightTriIndex;
-  std::vector<float> lightArea;
-  std::vector<int> meshTriEmitter;   // mesh triangle -> tris index or -1
-  std::vector<int> rectPrimEmitter;  // rectangle primitive -> tris index
-  /// An emitter (or the windows) that is exactly one rectangle: sampled by solid angle.
-  struct Rect {
-    Vec3f corner = Vec3f::Zero(), ex = Vec3f::Zero(), ey = Vec3f::Zero();
-    Vec3f n = Vec3f::Zero();  // emission side (area lights); unused for windows
-    float area = 0;
-    bool valid = false;
-  };
-  std::vector<Rect> lightRect;  // per area light
-  Rect windowRect;              // all window triangles, when they form one rectangle
-
-  bool hasEnv = false;
-  EnvironmentLight envUnit;  // the environment with radiance 1
-  Vec3f envRadiance = Vec3f::Ones();
-  std::vector<Tri> windowTris;
-  Distribution1D windowDist;
-  float windowArea = 0;
-  std::vector<int> meshTriWindow;  // mesh triangle -> windowTris index or -1
-  Distribution2D envDist;          // image environments without windows
-  float envMeanLum = 1;
-  /// With windows: sum over window triangles of area x the environment's luminance through them
-  /// weighted by |cos| to the window (over the outward hemisphere) / pi: the power that enters,
-  /// in the units of an area light's luminance x area.
-  float windowPower = 0;
-  float sceneRadius = 1;
+  std::vector<Prim> meshTriEmitter;     // mesh triangle -> emitter
+  std::vector<Prim> shapePrim;          // light-shape primitive (geometry 1) -> emitter
+  std::vector<uint8_t> meshTriOpening;  // mesh triangle of an opening part (rays pass through)
+  std::vector<int> infinite;            // lights that escaped rays see
 };
 
 // What shines in one render call.
 struct ActiveLights {
-  std::vector<Vec3f> radiance;  // per area light (zero: off)
-  bool envOn = false;
-  Vec3f envScale = Vec3f::Ones();
-  Distribution1D select;  // over area lights + (last) environment
+  std::vector<Vec3f> scale;  // per light (zero: off)
+  std::vector<uint8_t> on;
+  Distribution1D select;  // over the lights, half by power, half uniform
   float selectPdf(int i) const { return select.pdf(i); }
 };
-
-namespace {
-
-Vec3f envLookup(const PathTracer::Lights& L, const Vec3f& d) {
-  return L.envUnit.radianceFrom(d);
-}
-
-// The rectangle that `tris` tile exactly (two triangles on either side of one of its
-// diagonals, perpendicular edges, the same facing), or an invalid Rect.
-PathTracer::Lights::Rect rectangleOf(const std::vector<const PathTracer::Lights::Tri*>& tris) {
-  PathTracer::Lights::Rect r;
-  if (tris.size() != 2) return r;
-  float scale = 0;
-  for (const auto* t : tris)
-    scale = std::max({scale, t->p0.cwiseAbs().maxCoeff(), (t->p0 + t->e1).cwiseAbs().maxCoeff(),
-                      (t->p0 + t->e2).cwiseAbs().maxCoeff()});
-  const float eps = 1e-5f * (1.0f + scale);
-  std::vector<Vec3f> uniq;
-  int idx[2][3];
-  for (int k = 0; k < 2; ++k) {
-    const auto* t = tris[k];
-    const Vec3f v[3] = {t->p0, t->p0 + t->e1, t->p0 + t->e2};
-    for (int j = 0; j < 3; ++j) {
-      int found = -1;
-      for (size_t u = 0; u < uniq.size(); ++u)
-        if ((v[j] - uniq[u]).norm() <= eps) found = static_cast<int>(u);
-      if (found < 0) {
-        found = static_cast<int>(uniq.size());
-        uniq.push_back(v[j]);
-      }
-      idx[k][j] = found;
-    }
-  }
-  if (uniq.size() != 4) return r;
-  // the shared diagonal: the two vertices both triangles use
-  std::vector<int> shared;
-  for (int j = 0; j < 3; ++j)
-    if (std::find(idx[1], idx[1] + 3, idx[0][j]) != idx[1] + 3) shared.push_back(idx[0][j]);
-  if (shared.size() != 2) return r;
-  std::vector<int> other;
-  for (int u = 0; u < 4; ++u)
-    if (u != shared[0] && u != shared[1]) other.push_back(u);
-  // corner c = other[0], its neighbours the diagonal's ends, opposite corner other[1]
-  const Vec3f c = uniq[other[0]], ex = uniq[shared[0]] - c, ey = uniq[shared[1]] - c;
-  if ((c + ex + ey - uniq[other[1]]).norm() > 4 * eps) return r;
-  const float lx = ex.norm(), ly = ey.norm();
-  if (!(lx > 0) || !(ly > 0) || std::abs(ex.dot(ey)) > 1e-4f * lx * ly) return r;
-  const Vec3f n = ex.cross(ey).normalized();
-  if (std::abs(n.dot(tris[0]->n)) < 0.999f || tris[0]->n.dot(tris[1]->n) < 0.999f) return r;
-  r.corner = c;
-  r.ex = ex;
-  r.ey = ey;
-  r.n = tris[0]->n;
-  r.area = lx * ly;
-  r.valid = true;
-  return r;
-}
-
-// Solid-angle sampling of a rectangle is used from x when its solid angle is in this range
-// (below it, area sampling is as good and better conditioned).
-constexpr float kMinSphericalSolidAngle = 1e-4f, kMaxSphericalSolidAngle = 6.2f;
-inline bool useSpherical(const SphericalRectangle& sr) {
-  return sr.valid() && sr.solidAngle() > kMinSphericalSolidAngle &&
-         sr.solidAngle() < kMaxSphericalSolidAngle;
-}
-
-}  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& materials)
     : scene_(scene), materials_(materials), gray_(PartMaterial::defaultGray("default")) {
   Timer timer;
   const Mesh& mesh = scene.mesh;
-  accel_ = std::make_unique<RayAccel>(mesh, scene.lights.area);
+  lights_ = std::make_unique<Lights>();
+  Lights& L = *lights_;
+  const std::vector<const Light*> sceneLights = scene.lights.all();
+  const int nl = static_cast<int>(sceneLights.size());
+  std::vector<Vec3f> shapeVertices;
+  for (int i = 0; i < nl; ++i) {
+    L.lights.push_back(sceneLights[i]->clone());
+    const size_t first = shapeVertices.size();
+    L.lights[i]->shapes(&shapeVertices, nullptr);
+    for (size_t k = first; k + 2 < shapeVertices.size(); k += 3)
+      L.shapePrim.push_back({i, static_cast<int>((k - first) / 3)});
+    if (L.lights[i]->isInfinite()) L.infinite.push_back(i);
+  }
+  accel_ = std::make_unique<RayAccel>(mesh, shapeVertices);
   const size_t nt = mesh.numTriangles();
   triNormal_.resize(nt);
   triDpdu_.resize(nt);
@@ -171,178 +87,44 @@ PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& mate
       triDpdu_[t] = triDpdv_[t] = Vec3f::Zero();
     }
   }
+  // openings (windows): rays pass through their triangles
   windowPart_.assign(scene.parts.size(), 0);
-  if (scene.lights.environment)
-    for (int p : scene.lights.environment->windowParts)
-      if (p >= 0 && p < static_cast<int>(windowPart_.size())) windowPart_[p] = 1;
-
-  lights_ = std::make_unique<Lights>();
-  Lights& L = *lights_;
-  const auto& area = scene.lights.area;
-  L.meshTriEmitter.assign(nt, -1);
-  L.meshTriWindow.assign(nt, -1);
-  L.lightTris.resize(area.size());
-  L.lightTriIndex.resize(area.size());
-  L.lightArea.assign(area.size(), 0.0f);
-  std::vector<int> partLight(scene.parts.size(), -1);
-  for (size_t i = 0; i < area.size(); ++i)
-    if (area[i].kind == AreaLight::Kind::Part && area[i].partId >= 0)
-      partLight[area[i].partId] = static_cast<int>(i);
+  for (int p : scene.lights.openingParts())
+    if (p >= 0 && p < static_cast<int>(windowPart_.size())) windowPart_[p] = 1;
+  L.meshTriOpening.assign(nt, 0);
+  int openingTris = 0;
   for (size_t t = 0; t < nt; ++t) {
     const int part = mesh.partIds[t];
-    const auto& f = mesh.triangles[t];
-    Lights::Tri tri;
-    tri.p0 = mesh.positions[f[0]];
-    tri.e1 = mesh.positions[f[1]] - tri.p0;
-    tri.e2 = mesh.positions[f[2]] - tri.p0;
-    tri.area = mesh.area(static_cast<int>(t));
-    tri.n = triNormal_[t];
-    if (!(tri.area > 0) || tri.n.isZero()) continue;
-    if (part >= 0 && part < static_cast<int>(partLight.size()) && partLight[part] >= 0) {
-      // emits from the side its face normals point to: winding, or the OBJ normals when they
-      // disagree
-      const Vec3f nsum =
-          mesh.cornerNormals[3 * t] + mesh.cornerNormals[3 * t + 1] + mesh.cornerNormals[3 * t + 2];
-      if (nsum.dot(tri.n) < 0) tri.n = -tri.n;
-      tri.light = partLight[part];
-      L.meshTriEmitter[t] = static_cast<int>(L.tris.size());
-      L.lightTriIndex[tri.light].push_back(static_cast<int>(L.tris.size()));
-      L.tris.push_back(tri);
-    }
-    if (part >= 0 && part < static_cast<int>(windowPart_.size()) && windowPart_[part]) {
-      tri.light = -1;
-      L.meshTriWindow[t] = static_cast<int>(L.windowTris.size());
-      L.windowTris.push_back(tri);
+    if (part >= 0 && part < static_cast<int>(windowPart_.size()) && windowPart_[part] &&
+        mesh.area(static_cast<int>(t)) > 0 && !triNormal_[t].isZero()) {
+      L.meshTriOpening[t] = 1;
+      ++openingTris;
     }
   }
-  int rectCount = 0;
-  for (size_t i = 0; i < area.size(); ++i) {
-    if (area[i].kind != AreaLight::Kind::Rectangle) continue;
-    for (int k = 0; k < 2; ++k) {
-      const int prim = 2 * rectCount + k;
-      Vec3f p0, p1, p2;
-      accel_->rectangleTriangle(prim, &p0, &p1, &p2);
-      Lights::Tri tri;
-      tri.p0 = p0;
-      tri.e1 = p1 - p0;
-      tri.e2 = p2 - p0;
-      tri.area = 0.5f * tri.e1.cross(tri.e2).norm();
-      tri.n = area[i].normal();
-      tri.light = static_cast<int>(i);
-      L.rectPrimEmitter.push_back(static_cast<int>(L.tris.size()));
-      if (tri.area > 0 && tri.n.allFinite())
-        L.lightTriIndex[i].push_back(static_cast<int>(L.tris.size()));
-      L.tris.push_back(tri);
-    }
-    ++rectCount;
-  }
-  L.lightRect.resize(area.size());
-  for (size_t i = 0; i < area.size(); ++i) {
-    std::vector<float> w;
-    std::vector<const Lights::Tri*> tp;
-    for (int k : L.lightTriIndex[i]) {
-      w.push_back(L.tris[k].area);
-      tp.push_back(&L.tris[k]);
-    }
-    L.lightTris[i] = Distribution1D(w);
-    L.lightArea[i] = L.lightTris[i].total();
-    L.lightRect[i] = rectangleOf(tp);
-  }
-  const Eigen::AlignedBox3f box = mesh.bounds();
-  L.sceneRadius = std::max(1e-3f, 0.5f * (box.max() - box.min()).norm());
-  if (scene.lights.environment) {
-    L.hasEnv = true;
-    L.envUnit = *scene.lights.environment;
-    L.envUnit.radiance = Vec3f::Ones();
-    L.envRadiance = scene.lights.environment->radiance;
-    std::vector<float> ww;
-    for (const auto& t : L.windowTris) ww.push_back(t.area);
-    L.windowDist = Distribution1D(ww);
-    L.windowArea = L.windowDist.total();
-    std::vector<const Lights::Tri*> wp;
-    for (const auto& t : L.windowTris) wp.push_back(&t);
-    L.windowRect = rectangleOf(wp);
-    const cv::Mat& img = L.envUnit.image;
-    if (!img.empty()) {
-      // Radiance lookups are bilinear: a bright texel (the sun) spills up to half its value into
-      // its neighbours' footprints. Sampling by each texel's own value would give those spill
-      // regions the neighbours' small pdf (fireflies when a BSDF or window sample lands there);
-      // each texel's weight is the maximum of the bilinear radiance over its footprint instead
-      // (its center, edge midpoints and corners), so radiance / pdf stays bounded.
-      const int W = img.cols, H = img.rows;
-      std::vector<float> lum(static_cast<size_t>(W) * H);
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const cv::Vec3f c = img.at<cv::Vec3f>(y, x);
-          float l = luminance(Vec3f(c[0], c[1], c[2]));
-          if (!std::isfinite(l) || l < 0) l = 0;
-          lum[static_cast<size_t>(y) * W + x] = l;
-        }
-      auto at = [&](int x, int y) {  // wrap in u, clamp in v, as radianceFrom
-        x = ((x % W) + W) % W;
-        y = clampv(y, 0, H - 1);
-        return lum[static_cast<size_t>(y) * W + x];
-      };
-      std::vector<float> w(static_cast<size_t>(W) * H);
-      double lumSum = 0, wsum = 0;
-      for (int y = 0; y < H; ++y) {
-        const float sinT = std::sin(kPi * (y + 0.5f) / H);
-        for (int x = 0; x < W; ++x) {
-          const float c = at(x, y);
-          float m = c;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              if (dx == 0 && dy == 0) continue;
-              if (dx == 0 || dy == 0)
-                m = std::max(m, 0.5f * (c + at(x + dx, y + dy)));
-              else
-                m = std::max(m, 0.25f * (c + at(x + dx, y) + at(x, y + dy) + at(x + dx, y + dy)));
-            }
-          w[static_cast<size_t>(y) * W + x] = m * sinT;
-          lumSum += c * sinT;
-          wsum += sinT;
-        }
-      }
-      L.envMeanLum = wsum > 0 ? static_cast<float>(lumSum / wsum) : 0.0f;
-      L.envDist = Distribution2D(w, W, H);
-    } else {
-      L.envMeanLum = 1.0f;
-    }
-    // power through the windows: what the environment sends in through each window triangle, not
-    // its mean over the whole sphere (a sun outside a window would otherwise get a small selection
-    // probability and its next-event samples a large weight: fireflies)
-    const Vec3f center = 0.5f * (box.min() + box.max());
-    double power = 0;
-    for (const auto& t : L.windowTris) {
-      const Vec3f c = t.p0 + (t.e1 + t.e2) / 3.0f;
-      const Vec3f out =
-          t.n.dot(c - center) >= 0 ? t.n : Vec3f(-t.n);  // away from the room's middle
-      double e = 0;  // integral of luminance x cos+ over the sphere, / pi
-      if (img.empty())
-        e = 1.0;
-      else {
-        const int W = img.cols, H = img.rows;
-        for (int y = 0; y < H; ++y)
-          for (int x = 0; x < W; ++x) {
-            const Vec3f d = L.envUnit.uvToDirection(Vec2f((x + 0.5f) / W, (y + 0.5f) / H));
-            const float cs = d.dot(out);
-            if (cs <= 0) continue;
-            const cv::Vec3f v = img.at<cv::Vec3f>(y, x);
-            const float l = luminance(Vec3f(v[0], v[1], v[2]));
-            if (!std::isfinite(l) || l <= 0) continue;
-            const double dOmega = (2 * kPiD / W) * (kPiD / H) * std::sin(kPiD * (y + 0.5) / H);
-            e += l * cs * dOmega / kPiD;
-          }
-      }
-      power += t.area * e;
-    }
-    L.windowPower = static_cast<float>(power);
+  // each emitting part belongs to the last light that claims it
+  LightScene ls;
+  ls.mesh = &mesh;
+  ls.partEmitter.assign(scene.parts.size(), -1);
+  for (int i = 0; i < nl; ++i)
+    for (int p : L.lights[i]->emittingParts())
+      if (p >= 0 && p < static_cast<int>(ls.partEmitter.size())) ls.partEmitter[p] = i;
+  L.meshTriEmitter.assign(nt, {});
+  size_t emitterTris = L.shapePrim.size();
+  for (int i = 0; i < nl; ++i) {
+    ls.self = i;
+    L.lights[i]->preprocess(ls);
+    const std::vector<int> tris = L.lights[i]->emittingTriangles();
+    for (size_t k = 0; k < tris.size(); ++k)
+      if (tris[k] >= 0 && tris[k] < static_cast<int>(nt))
+        L.meshTriEmitter[tris[k]] = {i, static_cast<int>(k)};
+    emitterTris += tris.size();
   }
   setupSeconds_ = timer.seconds();
   spdlog::info(
-      "path tracer: {} triangles, BVH {:.3f}s, {} emitter triangles, {} window triangles, setup "
+      "path tracer: {} triangles, BVH {:.3f}s, {} lights, {} emitter triangles, {} window "
+      "triangles, setup "
       "{:.3f}s",
-      nt, accel_->buildSeconds(), L.tris.size(), L.windowTris.size(), setupSeconds_);
+      nt, accel_->buildSeconds(), nl, emitterTris, openingTris, setupSeconds_);
 }
 
 PathTracer::~PathTracer() = default;
@@ -417,16 +199,6 @@ Vec3f shadingFrame(const SurfacePoint& sp, const PartMaterial& material, const M
 // ---------------------------------------------------------------------------------------------
 // Path tracing
 
-namespace {
-
-struct EscapeInfo {
-  bool crossedWindow = false;
-  int windowTri = -1;    // first window triangle crossed
-  float windowDist = 0;  // distance to it
-};
-
-}  // namespace
-
 bool RenderOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& m) {
     if (error) *error = m;
@@ -443,26 +215,30 @@ bool RenderOptions::IsValid(std::string* error) const {
 
 namespace {
 
-struct Tracer {
+struct Tracer final : LightRays {
   const PathTracer& pt;
   const PathTracer::Lights& L;
   const ActiveLights& act;
   const RenderOptions& opt;
   const RayAccel& accel;
-  uint64_t rays = 0;
+  mutable uint64_t rays = 0;
 
-  // Closest non-window hit; window parts are passed through.
-  RayHit traceThroughWindows(const Vec3f& org, const Vec3f& dir, EscapeInfo* esc) {
+  Tracer(const PathTracer& pt_, const PathTracer::Lights& L_, const ActiveLights& act_,
+         const RenderOptions& opt_, const RayAccel& accel_)
+      : pt(pt_), L(L_), act(act_), opt(opt_), accel(accel_) {}
+
+  // Closest non-opening hit; opening parts (windows) are passed through.
+  RayHit traceThroughWindows(const Vec3f& org, const Vec3f& dir, LightEscape* esc) const {
     float tnear = 0;
     for (int k = 0; k < 16; ++k) {
       const RayHit hit = accel.intersect(org, dir, tnear);
       ++rays;
       if (!hit.valid()) return hit;
-      if (hit.geom == 0 && L.meshTriWindow[hit.prim] >= 0) {
-        if (!esc->crossedWindow) {
-          esc->crossedWindow = true;
-          esc->windowTri = L.meshTriWindow[hit.prim];
-          esc->windowDist = hit.t;
+      if (hit.geom == 0 && L.meshTriOpening[hit.prim]) {
+        if (!esc->crossedOpening) {
+          esc->crossedOpening = true;
+          esc->triangle = hit.prim;
+          esc->distance = hit.t;
         }
         tnear = hit.t * (1.0f + 1e-5f) + 1e-6f;
         continue;
@@ -472,175 +248,58 @@ struct Tracer {
     return RayHit();  // pathological stack of windows: treat as escaped
   }
 
-  bool envVisibleThrough(const EscapeInfo& esc) const {
-    return L.windowTris.empty() || esc.crossedWindow;
+  // LightRays
+  bool unoccluded(const Vec3f& org, const Vec3f& y) const override {
+    ++rays;
+    const Vec3f d = y - org;
+    const float len = d.norm();
+    if (!(len > 0)) return false;
+    return !accel.occluded(org, d / len, 0.0f, len * (1.0f - 1e-4f));
   }
-
-  // Share of the window strategy in the environment's light sampling when it is seen through
-  // windows: an image environment mixes it with image importance sampling (a bright sun through
-  // a window is found by the image strategy, a dim uniform sky by the window strategy).
-  float windowMix() const { return L.envUnit.image.empty() ? 1.0f : 0.5f; }
-
-  float envImagePdf(const Vec3f& dir) const {
-    if (L.envUnit.image.empty()) return 1.0f / (4 * kPi);
-    const Vec2f uv = L.envUnit.directionToUv(dir);
-    const float sinT = std::sin(kPi * clampv(uv.y(), 0.0f, 1.0f));
-    if (sinT <= 1e-7f) return 0;
-    return L.envDist.pdf(uv) / (2 * kPi * kPi * sinT);
+  bool unoccludedToInfinity(const Vec3f& org, const Vec3f& dir) const override {
+    ++rays;
+    return !accel.occluded(org, dir, 0.0f, std::numeric_limits<float>::infinity());
   }
-
-  // Solid-angle pdf at x of the window strategy for a direction that crossed a window first at
-  // (esc.windowTri, esc.windowDist): uniform in solid angle over a single rectangular window
-  // (seen from x), else uniform in area over all window triangles.
-  float windowPdf(const Vec3f& x, const Vec3f& dir, const EscapeInfo& esc) const {
-    if (L.windowRect.valid) {
-      const SphericalRectangle sr(L.windowRect.corner, L.windowRect.ex, L.windowRect.ey, x);
-      if (useSpherical(sr)) return 1.0f / sr.solidAngle();
-    }
-    const auto& w = L.windowTris[esc.windowTri];
-    const float c = std::abs(w.n.dot(dir));
-    return c < 1e-7f ? 0.0f : esc.windowDist * esc.windowDist / (L.windowArea * c);
+  bool escapesThroughOpenings(const Vec3f& org, const Vec3f& dir, LightEscape* esc) const override {
+    return !traceThroughWindows(org, dir, esc).valid();
   }
-
-  // Light-sampling pdf (solid angle) at x of the environment for a direction that escaped,
-  // selection probability included.
-  float envPdf(const Vec3f& x, const Vec3f& dir, const EscapeInfo& esc) const {
-    const int envIndex = static_cast<int>(act.radiance.size());
-    const float sel = act.selectPdf(envIndex);
-    if (sel <= 0) return 0;
-    if (!L.windowTris.empty()) {
-      if (!esc.crossedWindow || L.windowArea <= 0) return 0;
-      const float m = windowMix();
-      return sel * (m * windowPdf(x, dir, esc) + (m < 1 ? (1 - m) * envImagePdf(dir) : 0.0f));
-    }
-    return sel * envImagePdf(dir);
-  }
-
-  // Light-sampling pdf (solid angle, selection included) at x of area light i for a ray that hit
-  // it at distance t with cosine cosl on the emitter.
-  float areaLightPdf(int i, const Vec3f& x, float t, float cosl) const {
-    const auto& R = L.lightRect[i];
-    if (R.valid) {
-      const SphericalRectangle sr(R.corner, R.ex, R.ey, x);
-      if (useSpherical(sr)) return act.selectPdf(i) / sr.solidAngle();
-    }
-    return act.selectPdf(i) * t * t / (L.lightArea[i] * cosl);
-  }
-
-  Vec3f envRadiance(const Vec3f& dir) const { return envLookup(L, dir).cwiseProduct(act.envScale); }
 
   struct LightSample {
     Vec3f wi, Le;
     float pdf = 0, dist = 0;
+    bool delta = false;
   };
 
-  // Samples an emitter point or an environment direction seen from x and tests its visibility
-  // from `org` (x offset off the surface). uSel picks the light (and, remapped, the environment's
-  // strategy), uPt the point. Returns false when nothing visible was sampled.
+  // Picks a light with uSel (the remapped number goes on to the light), samples it from x and
+  // tests visibility from `org` (x offset off the surface). False when nothing visible was
+  // sampled.
   bool sampleVisibleLight(const Vec3f& x, const Vec3f& org, const Vec3f& ngo, float uSel,
-                          const Vec2f& uPt, LightSample* ls) {
+                          const Vec2f& uPt, LightSample* ls) const {
     if (act.select.empty()) return false;
     float selPdf = 0, uRe = 0;
     const int i = act.select.sample(uSel, &selPdf, &uRe);
-    const int envIndex = static_cast<int>(act.radiance.size());
-    auto pointOn = [](const PathTracer::Lights::Tri& tri, float a, float b) {
-      const float su = std::sqrt(a);
-      return Vec3f(tri.p0 + tri.e1 * (su * (1 - b)) + tri.e2 * (su * b));
-    };
-    if (i < envIndex) {
-      const auto& R = L.lightRect[i];
-      Vec3f y, n;
-      float pdfSA = -1;  // solid-angle pdf when sampled by solid angle
-      if (R.valid) {
-        n = R.n;
-        if ((x - R.corner).dot(R.n) <= 0) return false;  // behind the one-sided emitter
-        const SphericalRectangle sr(R.corner, R.ex, R.ey, x);
-        if (useSpherical(sr)) {
-          y = sr.sample(uPt.x(), uPt.y());
-          pdfSA = selPdf / sr.solidAngle();
-        } else {
-          y = R.corner + uPt.x() * R.ex + uPt.y() * R.ey;
-        }
-      } else {
-        const auto& dist = L.lightTris[i];
-        if (dist.empty()) return false;
-        float triPdf = 0, ux = 0;
-        const auto& tri = L.tris[L.lightTriIndex[i][dist.sample(uPt.x(), &triPdf, &ux)]];
-        y = pointOn(tri, ux, uPt.y());
-        n = tri.n;
-      }
-      const Vec3f d = y - x;
-      const float dist2 = d.squaredNorm();
-      if (!(dist2 > 1e-12f)) return false;
-      ls->dist = std::sqrt(dist2);
-      ls->wi = d / ls->dist;
-      const float cosl = -n.dot(ls->wi);
-      if (cosl <= 1e-6f || ls->wi.dot(ngo) <= 0) return false;
-      ls->pdf = pdfSA > 0 ? pdfSA : selPdf * dist2 / (L.lightArea[i] * cosl);
-      ls->Le = act.radiance[i];
-      if (!(ls->pdf > 0) || !std::isfinite(ls->pdf) || ls->Le.maxCoeff() <= 0) return false;
-      ++rays;
-      // the shadow ray runs from org (x lifted off the surface) to y: measured from x, the
-      // segment would end past an emitter a few cm away (the lift is ~1e-4 m) and shadow it
-      const Vec3f dOrg = y - org;
-      const float lOrg = dOrg.norm();
-      if (!(lOrg > 0)) return false;
-      return !accel.occluded(org, dOrg / lOrg, 0.0f, lOrg * (1.0f - 1e-4f));
-    }
-    // environment
-    if (!L.windowTris.empty()) {
-      if (L.windowArea <= 0) return false;
-      const float m = windowMix();
-      if (uRe < m) {
-        Vec3f y;
-        bool done = false;
-        if (L.windowRect.valid) {
-          const SphericalRectangle sr(L.windowRect.corner, L.windowRect.ex, L.windowRect.ey, x);
-          if (useSpherical(sr)) {
-            y = sr.sample(uPt.x(), uPt.y());
-            done = true;
-          }
-        }
-        if (!done) {
-          float triPdf = 0, ux = 0;
-          const int k = L.windowDist.sample(uPt.x(), &triPdf, &ux);
-          y = pointOn(L.windowTris[k], ux, uPt.y());
-        }
-        const Vec3f d = y - x;
-        const float len = d.norm();
-        if (!(len > 1e-6f)) return false;
-        ls->wi = d / len;
-      } else {
-        float uvPdf = 0;
-        const Vec2f uv = L.envDist.sample(uPt.x(), uPt.y(), &uvPdf);
-        if (uvPdf <= 0) return false;
-        ls->wi = L.envUnit.uvToDirection(uv);
-      }
-      if (ls->wi.dot(ngo) <= 0) return false;
-      EscapeInfo esc;
-      const RayHit h = traceThroughWindows(org, ls->wi, &esc);
-      if (h.valid() || !esc.crossedWindow) return false;
-      ls->pdf = envPdf(x, ls->wi, esc);
-    } else {
-      if (L.envUnit.image.empty()) {
-        const float z = 1 - 2 * uPt.x(), r = std::sqrt(std::max(0.0f, 1 - z * z)),
-                    phi = 2 * kPi * uPt.y();
-        ls->wi = Vec3f(r * std::cos(phi), r * std::sin(phi), z);
-      } else {
-        float uvPdf = 0;
-        const Vec2f uv = L.envDist.sample(uPt.x(), uPt.y(), &uvPdf);
-        if (uvPdf <= 0) return false;
-        ls->wi = L.envUnit.uvToDirection(uv);
-      }
-      if (ls->wi.dot(ngo) <= 0) return false;
-      ls->pdf = selPdf * envImagePdf(ls->wi);
-      if (!(ls->pdf > 0)) return false;
-      ++rays;
-      if (accel.occluded(org, ls->wi, 0.0f, std::numeric_limits<float>::infinity())) return false;
-    }
-    ls->dist = std::numeric_limits<float>::infinity();
-    ls->Le = envRadiance(ls->wi);
-    return ls->pdf > 0 && std::isfinite(ls->pdf) && ls->Le.maxCoeff() > 0;
+    LightSampleContext ctx;
+    ctx.p = x;
+    ctx.n = ngo;
+    ctx.org = org;
+    ctx.selectionPdf = selPdf;
+    ctx.rays = this;
+    LightLiSample s;
+    if (!L.lights[i]->sampleLi(ctx, uRe, uPt, &s)) return false;
+    ls->wi = s.wi;
+    ls->pdf = s.pdf;
+    ls->dist = s.dist;
+    ls->Le = s.L.cwiseProduct(act.scale[i]);
+    ls->delta = L.lights[i]->isDeltaPosition();
+    return ls->Le.maxCoeff() > 0;
+  }
+
+  // The light-sampling pdf at x (selection included) of light i for a ray that found it.
+  float lightPdf(int i, const Vec3f& x, const LightHit& hit) const {
+    LightSampleContext ctx;
+    ctx.p = x;
+    ctx.selectionPdf = act.selectPdf(i);
+    return L.lights[i]->pdfLi(ctx, hit);
   }
 
   // Sample dimensions: 2D 0 is the pixel position; bounce b uses 1D dimensions 4b .. 4b + 2
@@ -656,32 +315,35 @@ struct Tracer {
     int bounce = 0, diffuse = 0, glossy = 0;
     const bool nee = opt.nextEventEstimation && !act.select.empty();
     for (int depth = 0;; ++depth) {
-      EscapeInfo esc;
+      LightEscape esc;
       const RayHit hit = traceThroughWindows(org, dir, &esc);
       if (!hit.valid()) {
-        if (act.envOn && envVisibleThrough(esc)) {
-          const Vec3f Le = envRadiance(dir);
+        for (int i : L.infinite) {
+          if (!act.on[i]) continue;
+          LightHit lh;
+          lh.dir = dir;
+          lh.escape = esc;
+          const Vec3f Le = L.lights[i]->L(lh).cwiseProduct(act.scale[i]);
           const float w = (depth == 0 || !nee || prevPdf <= 0)
                               ? 1.0f
-                              : powerHeuristic(prevPdf, envPdf(prevPos, dir, esc));
+                              : powerHeuristic(prevPdf, lightPdf(i, prevPos, lh));
           Lsum += beta.cwiseProduct(Le) * w;
         }
         break;
       }
       // emission
-      int em = -1;
-      if (hit.geom == 1)
-        em = L.rectPrimEmitter[hit.prim];
-      else
-        em = L.meshTriEmitter[hit.prim];
-      if (em >= 0) {
-        const auto& tri = L.tris[em];
-        const float cosl = -tri.n.dot(dir);
-        const Vec3f& Le = act.radiance[tri.light];
-        if (cosl > 0 && Le.maxCoeff() > 0) {
+      const PathTracer::Lights::Prim em =
+          hit.geom == 1 ? L.shapePrim[hit.prim] : L.meshTriEmitter[hit.prim];
+      if (em.light >= 0) {
+        LightHit lh;
+        lh.dir = dir;
+        lh.t = hit.t;
+        lh.primitive = em.prim;
+        const Vec3f Le = L.lights[em.light]->L(lh).cwiseProduct(act.scale[em.light]);
+        if (Le.maxCoeff() > 0) {
           float w = 1.0f;
           if (depth > 0 && nee && prevPdf > 0)
-            w = powerHeuristic(prevPdf, areaLightPdf(tri.light, prevPos, hit.t, cosl));
+            w = powerHeuristic(prevPdf, lightPdf(em.light, prevPos, lh));
           Lsum += beta.cwiseProduct(Le) * w;
         }
       }
@@ -710,7 +372,7 @@ struct Tracer {
           const Vec3f f = bsdf.eval(woL, wiL);
           if (f.maxCoeff() > 0) {
             const float bp = bsdf.pdf(woL, wiL);
-            const float w = powerHeuristic(ls.pdf, bp);
+            const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bp);
             Lsum += beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf);
           }
         }
@@ -791,51 +453,48 @@ class FilterSampler {
 ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L,
                         const LightSelection& sel) {
   ActiveLights act;
-  const auto& area = scene.lights.area;
-  act.radiance.assign(area.size(), Vec3f::Zero());
-  std::vector<float> w(area.size() + 1, 0.0f);
-  for (size_t i = 0; i < area.size(); ++i) {
+  const std::vector<const Light*> sceneLights = scene.lights.all();
+  const size_t n = sceneLights.size();
+  PS_Check(n == L.lights.size(), "path tracer: the scene has "
+                                     << n << " lights, the tracer was built with "
+                                     << L.lights.size());
+  const int one = sel.kind == LightSelection::Kind::One ? sel.index
+                  : sel.kind == LightSelection::Kind::EnvironmentOnly
+                      ? scene.lights.environmentIndex()
+                      : -1;
+  act.scale.assign(n, Vec3f::Zero());
+  act.on.assign(n, 0);
+  std::vector<float> w(n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
     bool on = false;
     Vec3f rad = Vec3f::Zero();
     if (sel.kind == LightSelection::Kind::All) {
-      PS_Check(area[i].radiance.has_value(),
-               "area light '" << area[i].name
-                              << "' has no radiance: give one, or render one light at a time");
-      rad = *area[i].radiance;
+      const std::optional<Vec3f> s = sceneLights[i]->scale();
+      PS_Check(s.has_value(), sceneLights[i]->type()
+                                  << " light '" << sceneLights[i]->label()
+                                  << "' has no radiance: give one, or render one light at a time");
+      rad = *s;
       on = true;
-    } else if (sel.kind == LightSelection::Kind::OneArea && static_cast<int>(i) == sel.areaIndex) {
+    } else if (static_cast<int>(i) == one) {
       rad = Vec3f::Ones();
       on = true;
     }
     if (!rad.allFinite()) rad = Vec3f::Zero();
     rad = rad.cwiseMax(0.0f);
-    act.radiance[i] = on ? rad : Vec3f::Zero();
-    w[i] = luminance(act.radiance[i]) * L.lightArea[i];
-    if (L.lightTris[i].empty()) w[i] = 0;
-  }
-  if (L.hasEnv && (sel.kind == LightSelection::Kind::All ||
-                   sel.kind == LightSelection::Kind::EnvironmentOnly)) {
-    act.envOn = true;
-    act.envScale = sel.kind == LightSelection::Kind::All ? Vec3f(L.envRadiance.cwiseMax(0.0f))
-                                                         : Vec3f(Vec3f::Ones());
-    const float lum = L.envMeanLum * luminance(act.envScale);
-    // estimated power entering the scene: through the windows, or over a sphere around the scene
-    w[area.size()] = L.windowTris.empty()
-                         ? std::max(0.0f, lum * kPi * L.sceneRadius * L.sceneRadius)
-                         : std::max(0.0f, L.windowPower * luminance(act.envScale));
-    if (!L.windowTris.empty() && L.windowArea <= 0) w[area.size()] = 0;
-    if (L.windowTris.empty() && !L.envUnit.image.empty() && L.envDist.empty()) w[area.size()] = 0;
+    act.scale[i] = on ? rad : Vec3f::Zero();
+    act.on[i] = on ? 1 : 0;
+    w[i] = on ? L.lights[i]->power(act.scale[i]) : 0.0f;
   }
   // half by power, half uniform over the shining lights (as Cycles before its light tree): power
   // alone says nothing about where a light matters (a sun through a window is a small share of
   // the power but all of the light on its patch; at 5 % its samples came back 20 x: fireflies)
   float total = 0;
-  int n = 0;
+  int count = 0;
   for (float x : w)
-    if (x > 0) total += x, ++n;
-  if (n > 0)
+    if (x > 0) total += x, ++count;
+  if (count > 0)
     for (float& x : w)
-      if (x > 0) x = 0.5f * x / total + 0.5f / n;
+      if (x > 0) x = 0.5f * x / total + 0.5f / count;
   act.select = Distribution1D(w);
   return act;
 }
@@ -906,10 +565,9 @@ std::vector<cv::Mat> PathTracer::renderPerLight(const Camera& camera, const Rend
   std::vector<cv::Mat> out;
   RenderStats total;
   RenderOptions o = options;
-  const int n = static_cast<int>(scene_.lights.area.size());
-  for (int i = 0; i <= n; ++i) {
-    if (i == n && !scene_.lights.environment) break;
-    o.lights = i < n ? LightSelection::area(i) : LightSelection::environment();
+  const int n = static_cast<int>(scene_.lights.size());
+  for (int i = 0; i < n; ++i) {
+    o.lights = LightSelection::one(i);
     RenderStats s;
     out.push_back(render(camera, o, &s));
     total.seconds += s.seconds;

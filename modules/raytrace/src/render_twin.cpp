@@ -47,11 +47,13 @@ std::vector<fs::path> renderTwinCommand(const TwinRenderRequest& req) {
       exposure.resize(twin.scene.views.size(), 1.0);
     }
   }
-  for (size_t i = 0; i < twin.scene.lights.area.size(); ++i)
-    if (!twin.scene.lights.area[i].radiance)
+  const auto lights = twin.scene.lights.all();
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (!lights[i]->scale())
       throw InputError(lightsSource, "emitters[" + std::to_string(i) + "].radiance",
-                       "a radiance for emitter '" + twin.scene.lights.area[i].name + "' (fitted intensities are needed to render)");
-  if (twin.scene.lights.area.empty() && !twin.scene.lights.environment)
+                       "a radiance for emitter '" + lights[i]->label() +
+                           "' (fitted intensities are needed to render)");
+  if (lights.empty())
     throw InputError(lightsSource, "emitters", "at least one emitter or an environment");
 
   std::vector<std::pair<Camera, double>> views;  // camera, exposure

@@ -251,12 +251,11 @@ class GltfBuilder {
   GltfExportSummary build() {
     const Scene& scene = twin_.scene;
     std::set<int> windows;
-    if (scene.lights.environment)
-      for (int p : scene.lights.environment->windowParts) windows.insert(p);
+    for (int p : scene.lights.openingParts()) windows.insert(p);
     std::map<int, Vec3f> partEmission;
-    for (const AreaLight& l : scene.lights.area)
-      if (l.kind == AreaLight::Kind::Part && l.partId >= 0)
-        partEmission[l.partId] = l.radiance.value_or(Vec3f::Ones());
+    for (const Light* l : scene.lights.all())
+      for (int p : l->emittingParts())
+        if (p >= 0) partEmission[p] = l->scale().value_or(Vec3f::Ones());
 
     std::vector<int> children;
     for (const Part& part : scene.parts) {
@@ -276,9 +275,11 @@ class GltfBuilder {
       if (d.indices.empty()) continue;
       children.push_back(addMesh(model_, part.name, d, mat));
     }
-    for (const AreaLight& l : scene.lights.area) {
-      if (l.kind != AreaLight::Kind::Rectangle) continue;
-      children.push_back(addRectangleEmitter(l));
+    for (const Light* l : scene.lights.all()) {
+      std::vector<Vec3f> v, n;
+      l->shapes(&v, &n);
+      if (v.empty()) continue;
+      children.push_back(addShapeEmitter(*l, v, n));
       ++summary_.emitters;
     }
 
@@ -419,27 +420,32 @@ class GltfBuilder {
     return static_cast<int>(model_.materials.size()) - 1;
   }
 
-  int addRectangleEmitter(const AreaLight& l) {
+  // An emitting surface a light adds (Light::shapes(): a rectangle's two triangles), vertices
+  // shared where position and normal agree (a rectangle: its 4 corners, indices 0 1 2 0 2 3).
+  int addShapeEmitter(const Light& l, const std::vector<Vec3f>& v, const std::vector<Vec3f>& n) {
     tinygltf::Material mat;
-    mat.name = "emitter_" + l.name;
+    mat.name = "emitter_" + l.label();
     mat.pbrMetallicRoughness.baseColorFactor = {0, 0, 0, 1};
     mat.pbrMetallicRoughness.metallicFactor = 0;
     mat.pbrMetallicRoughness.roughnessFactor = 1;
-    setEmission(mat, l.radiance.value_or(Vec3f::Ones()), extensions_);
+    setEmission(mat, l.scale().value_or(Vec3f::Ones()), extensions_);
     model_.materials.push_back(mat);
     const int matId = static_cast<int>(model_.materials.size()) - 1;
 
     PrimitiveData d;
-    const Vec3f n = l.normal();
-    const Vec3f c = l.center, hu = 0.5f * l.edgeU, hv = 0.5f * l.edgeV;
-    // corners counter-clockwise seen from the side n points to: (-u,-v), (+u,-v), (+u,+v), (-u,+v)
-    const Vec3f corners[4] = {c - hu - hv, c + hu - hv, c + hu + hv, c - hu + hv};
-    for (int k = 0; k < 4; ++k) {  // untextured: no UVs, no tangents
-      d.positions.insert(d.positions.end(), {corners[k].x(), corners[k].y(), corners[k].z()});
-      d.normals.insert(d.normals.end(), {n.x(), n.y(), n.z()});
+    std::vector<std::pair<Vec3f, Vec3f>> unique;
+    for (size_t k = 0; k < v.size(); ++k) {
+      const Vec3f nk = k < n.size() ? n[k] : Vec3f(0, 1, 0);
+      size_t idx = 0;
+      while (idx < unique.size() && !(unique[idx].first == v[k] && unique[idx].second == nk)) ++idx;
+      if (idx == unique.size()) {  // untextured: no UVs, no tangents
+        unique.emplace_back(v[k], nk);
+        d.positions.insert(d.positions.end(), {v[k].x(), v[k].y(), v[k].z()});
+        d.normals.insert(d.normals.end(), {nk.x(), nk.y(), nk.z()});
+      }
+      d.indices.push_back(static_cast<uint32_t>(idx));
     }
-    d.indices = {0, 1, 2, 0, 2, 3};
-    return addMesh(model_, "emitter_" + l.name, d, matId);
+    return addMesh(model_, "emitter_" + l.label(), d, matId);
   }
 
   static bool keepImageUri(const std::string*, const std::string*, const tinygltf::Image*, bool,

@@ -1,3 +1,4 @@
+// The automatic ceiling grid (the lights themselves: area_light.cpp, environment_light.cpp).
 #include "photoscene/scene/lights.hpp"
 
 #include <cmath>
@@ -6,41 +7,6 @@
 #include "photoscene/scene/mesh.hpp"
 
 namespace ps {
-
-Vec2f EnvironmentLight::directionToUv(const Vec3f& dirWorld) const {
-  const Vec3f d = worldToEnv * dirWorld;
-  const float rot = radians(rotationDeg);
-  float u = 0.5f + (std::atan2(d.z(), d.x()) - rot) / (2 * kPi);
-  u -= std::floor(u);
-  const float v = 0.5f - std::asin(clampv(d.y(), -1.0f, 1.0f)) / kPi;
-  return Vec2f(u, v);
-}
-
-Vec3f EnvironmentLight::uvToDirection(const Vec2f& uv) const {
-  const float phi = (uv.x() - 0.5f) * 2 * kPi + radians(rotationDeg);
-  const float theta = (0.5f - uv.y()) * kPi;  // elevation
-  const Vec3f d(std::cos(theta) * std::cos(phi), std::sin(theta), std::cos(theta) * std::sin(phi));
-  return worldToEnv.transpose() * d;
-}
-
-Vec3f EnvironmentLight::radianceFrom(const Vec3f& dir) const {
-  if (image.empty()) return radiance;
-  const Vec2f uv = directionToUv(dir);
-  const int w = image.cols, h = image.rows;
-  // pixel centers at (i + 0.5) / w; wrap in u, clamp in v
-  const float x = uv.x() * w - 0.5f, y = uv.y() * h - 0.5f;
-  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  const float fx = x - x0, fy = y - y0;
-  auto texel = [&](int xi, int yi) {
-    xi = ((xi % w) + w) % w;
-    yi = clampv(yi, 0, h - 1);
-    const cv::Vec3f& p = image.at<cv::Vec3f>(yi, xi);
-    return Vec3f(p[0], p[1], p[2]);
-  };
-  const Vec3f c = (1 - fy) * ((1 - fx) * texel(x0, y0) + fx * texel(x0 + 1, y0)) +
-                  fy * ((1 - fx) * texel(x0, y0 + 1) + fx * texel(x0 + 1, y0 + 1));
-  return c.cwiseProduct(radiance);
-}
 
 std::vector<AreaLight> autoCeilingLights(const Mesh& mesh, const Vec3f& upIn, float spacing,
                                          float size, float offset) {

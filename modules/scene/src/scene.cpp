@@ -9,6 +9,7 @@
 #include "photoscene/core/timer.hpp"
 #include "photoscene/io/image_io.hpp"
 #include "photoscene/io/obj_io.hpp"
+#include "light_geometry.hpp"
 
 namespace ps {
 
@@ -18,57 +19,23 @@ int Scene::partId(const std::string& name) const {
   return -1;
 }
 
+namespace {}  // namespace
+
 namespace {
 
-std::string partList(const std::vector<Part>& parts) {
-  std::ostringstream os;
-  for (size_t i = 0; i < parts.size() && i < 12; ++i) os << (i ? ", " : "") << parts[i].name;
-  if (parts.size() > 12) os << ", ... (" << parts.size() << " parts)";
-  return os.str();
-}
-
-int requirePart(const std::vector<Part>& parts, const std::string& name, const std::string& file,
-                const std::string& key) {
-  for (const Part& p : parts)
-    if (p.name == name) return p.id;
-  throw InputError(file, key, "unknown part \"" + name + "\": the OBJ's parts (usemtl names) are " + partList(parts));
-}
-
-Mat3f upToY(const Vec3f& up) {
-  return Eigen::Quaternionf::FromTwoVectors(up.normalized(), Vec3f(0, 1, 0)).toRotationMatrix();
-}
-
-EnvironmentLight makeEnvironment(const io::EnvironmentDesc& e, const std::vector<Part>& parts,
-                                 const Vec3f& up, const std::string& file, const std::string& key,
-                                 bool loadImage) {
-  EnvironmentLight env;
-  env.radiance = e.radiance.cast<float>();
-  env.rotationDeg = static_cast<float>(e.rotationDeg);
-  env.worldToEnv = upToY(up);
-  for (size_t i = 0; i < e.windowParts.size(); ++i)
-    env.windowParts.push_back(requirePart(parts, e.windowParts[i], file, key + ".window_parts[" + std::to_string(i) + "]"));
-  if (e.image) {
-    if (loadImage) env.image = io::readImage(*e.image);
-    else io::readImageInfo(*e.image);  // fail early when missing
-  }
-  return env;
-}
-
-AreaLight makeAreaLight(const io::AreaLightDesc& d, const std::vector<Part>& parts,
-                        const std::string& file, const std::string& key) {
-  AreaLight l;
-  l.name = d.name;
-  if (d.part) {
-    l.kind = AreaLight::Kind::Part;
-    l.partId = requirePart(parts, *d.part, file, key + ".part");
-  } else {
-    l.kind = AreaLight::Kind::Rectangle;
-    l.center = d.center.cast<float>();
-    l.edgeU = d.edgeU.cast<float>();
-    l.edgeV = d.edgeV.cast<float>();
-  }
-  if (d.radiance) l.radiance = d.radiance->cast<float>();
-  return l;
+// Lights of registered types (any "type" but "area"), through ps::LightRegistry.
+void addRegistered(LightSet* set, const std::vector<io::RegisteredLightDesc>& descs,
+                   const std::vector<Part>& parts, const Vec3f& up, const std::string& file,
+                   bool loadImages) {
+  LightJsonContext ctx;
+  ctx.parts = &parts;
+  ctx.baseDir = fs::path(file).parent_path();
+  if (ctx.baseDir.empty()) ctx.baseDir = ".";
+  ctx.file = file;
+  ctx.up = up;
+  ctx.loadImages = loadImages;
+  for (const io::RegisteredLightDesc& d : descs)
+    set->add(LightRegistry::create(io::JsonValue(d.json, file, d.key), ctx));
 }
 
 }  // namespace
@@ -77,24 +44,31 @@ LightSet makeLights(const io::LightsDesc& desc, const Mesh& mesh, const std::vec
                     const Vec3f& up, const std::string& file, bool loadEnvironment) {
   LightSet set;
   for (size_t i = 0; i < desc.area.size(); ++i)
-    set.area.push_back(makeAreaLight(desc.area[i], parts, file, "lights.area[" + std::to_string(i) + "]"));
-  if (set.area.empty()) {
+    set.area.push_back(
+        AreaLight::fromDesc(desc.area[i], parts, file, "lights.area[" + std::to_string(i) + "]"));
+  addRegistered(&set, desc.registered, parts, up, file, loadEnvironment);
+  if (set.area.empty() && set.registered.empty()) {
     set.area = autoCeilingLights(mesh, up, static_cast<float>(desc.autoCeilingSpacing));
     spdlog::info("no area lights given: placed {} ceiling lights on a {:.2f} m grid", set.area.size(),
                  desc.autoCeilingSpacing);
   }
   if (desc.environment)
-    set.environment = makeEnvironment(*desc.environment, parts, up, file, "lights.environment", loadEnvironment);
+    set.environment = EnvironmentLight::fromDesc(*desc.environment, parts, up, file,
+                                                 "lights.environment", loadEnvironment);
   return set;
 }
 
 LightSet makeLights(const io::LightsFileDesc& desc, const Mesh& mesh, const std::vector<Part>& parts,
                     const Vec3f& up, const std::string& file) {
+  (void)mesh;
   LightSet set;
   for (size_t i = 0; i < desc.emitters.size(); ++i)
-    set.area.push_back(makeAreaLight(desc.emitters[i], parts, file, "emitters[" + std::to_string(i) + "]"));
+    set.area.push_back(
+        AreaLight::fromDesc(desc.emitters[i], parts, file, "emitters[" + std::to_string(i) + "]"));
+  addRegistered(&set, desc.registered, parts, up, file, true);
   if (desc.environment)
-    set.environment = makeEnvironment(*desc.environment, parts, up, file, "environment", true);
+    set.environment =
+        EnvironmentLight::fromDesc(*desc.environment, parts, up, file, "environment", true);
   return set;
 }
 
@@ -132,7 +106,8 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
   scene.mesh = meshFromObj(obj, &scene.parts, scene.up);
 
   // Part names used anywhere must exist in the OBJ.
-  for (const auto& [name, part] : desc.parts) requirePart(scene.parts, name, file, "parts." + name);
+  for (const auto& [name, part] : desc.parts)
+    requirePartId(scene.parts, name, file, "parts." + name);
 
   for (size_t i = 0; i < desc.views.size(); ++i) {
     const io::ViewDesc& vd = desc.views[i];
@@ -165,7 +140,7 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
     }
     for (const auto& [value, name] : vd.segmentParts)
       view.segmentParts[static_cast<int>(value)] =
-          requirePart(scene.parts, name, file, key + ".segment_parts." + std::to_string(value));
+          requirePartId(scene.parts, name, file, key + ".segment_parts." + std::to_string(value));
     if (options.loadPhotos) {
       view.photo = io::readImage(vd.image, io::parseColorSpace(vd.colorSpace));
       if (vd.segments) {
@@ -198,10 +173,14 @@ Scene loadScene(const fs::path& sceneJson, const LoadOptions& options) {
   int degenerate = 0;
   for (size_t t = 0; t < scene.mesh.numTriangles(); ++t)
     if (scene.mesh.area(static_cast<int>(t)) < 1e-12f) ++degenerate;
-  spdlog::info("scene {}: {} triangles ({} degenerate), {} parts, {} views, {} area lights{} ({:.2f}s)",
-               sceneJson.filename().string(), scene.mesh.numTriangles(), degenerate, scene.parts.size(),
-               scene.views.size(), scene.lights.area.size(),
-               scene.lights.environment ? " + environment" : "", timer.seconds());
+  spdlog::info(
+      "scene {}: {} triangles ({} degenerate), {} parts, {} views, {} area lights{}{} ({:.2f}s)",
+      sceneJson.filename().string(), scene.mesh.numTriangles(), degenerate, scene.parts.size(),
+      scene.views.size(), scene.lights.area.size(),
+      scene.lights.registered.empty()
+          ? ""
+          : fmt::format(" + {} registered", scene.lights.registered.size()),
+      scene.lights.environment ? " + environment" : "", timer.seconds());
   return scene;
 }
 

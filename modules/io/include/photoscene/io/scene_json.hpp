@@ -51,8 +51,17 @@ struct EnvironmentDesc {
   std::vector<std::string> windowParts;
 };
 
+/// An emitter of a registered light type (a "type" other than "area"): kept as written, made
+/// into a ps::Light by the scene module (ps::LightRegistry), which checks it.
+struct RegisteredLightDesc {
+  std::string type;
+  std::string key;      ///< where it is in its file ("lights.area[2]", "emitters[0]")
+  nlohmann::json json;  ///< the entry as written (relative paths unresolved)
+};
+
 struct LightsDesc {
   std::vector<AreaLightDesc> area;
+  std::vector<RegisteredLightDesc> registered;  ///< lights.area entries with another "type"
   double autoCeilingSpacing = 3.0;
   std::optional<EnvironmentDesc> environment;
 };
@@ -111,10 +120,19 @@ nlohmann::json cameraToJson(const CameraDesc& camera);
 /// lights.json: emitters with radiance, optional environment, per-view exposure.
 struct LightsFileDesc {
   std::vector<AreaLightDesc> emitters;
+  std::vector<RegisteredLightDesc>
+      registered;  ///< emitters with a "type" other than "area" (written after `emitters`)
   std::optional<EnvironmentDesc> environment;
   std::vector<double> exposure;
 };
 LightsFileDesc readLightsJson(const fs::path& path);
+/// Parses one area emitter (scene.json's lights.area[i], lights.json's emitters[i]);
+/// `radianceRequired` for lights.json. "type", when present, must be "area".
+AreaLightDesc parseAreaLight(const JsonValue& entry, bool radianceRequired);
+/// Parses an environment object; a relative image path resolves against `baseDir`.
+EnvironmentDesc parseEnvironment(const JsonValue& env, const fs::path& baseDir);
+/// The "type" of an emitter entry: "area" when absent; throws when not a non-empty string.
+std::string emitterType(const JsonValue& entry);
 void writeLightsJson(const fs::path& path, const LightsFileDesc& lights);
 
 /// materials/<part>.json

@@ -1,11 +1,12 @@
 // Ray queries against the scene mesh through an Embree 3 BVH (Embree 4 compiles too).
 //
 // Geometry 0 is the scene mesh (primitive = triangle index of ps::Mesh); geometry 1 holds the
-// rectangle emitters, two triangles each (primitive 2 i and 2 i + 1 belong to rectangle i of
-// the list given to the constructor). Build once per scene; queries are thread-safe.
+// triangles lights add to the scene (Light::shapes(): a rectangle emitter is two), in the order
+// given to the constructor. Build once per scene; queries are thread-safe.
 //
-//   ps::RayAccel accel(scene.mesh, rectangles);
-//   ps::RayHit hit = accel.intersect(origin, dir);   // hit.valid() ...
+//   std::vector<ps::Vec3f> shapes;  for (const ps::Light* l : scene.lights.all())
+//   l->shapes(&shapes); ps::RayAccel accel(scene.mesh, shapes); ps::RayHit hit =
+//   accel.intersect(origin, dir);   // hit.valid() ...
 #pragma once
 
 #include <memory>
@@ -19,7 +20,7 @@ namespace ps {
 
 struct RayHit {
   float t = 0;       ///< distance along the (unit) direction
-  int geom = -1;     ///< 0: mesh, 1: rectangle emitters, -1: no hit
+  int geom = -1;     ///< 0: mesh, 1: light shapes, -1: no hit
   int prim = -1;     ///< triangle index within the geometry
   float b1 = 0, b2 = 0;  ///< barycentrics: p = (1 - b1 - b2) p0 + b1 p1 + b2 p2
   bool valid() const { return geom >= 0; }
@@ -27,8 +28,10 @@ struct RayHit {
 
 class RayAccel {
  public:
-  /// Builds the BVH over `mesh` (kept by reference: it must outlive this) and the rectangles
-  /// among `lights` (kind Rectangle; others are ignored).
+  /// Builds the BVH over `mesh` (kept by reference: it must outlive this) and the light shapes:
+  /// triangles given as three consecutive vertices each.
+  RayAccel(const Mesh& mesh, const std::vector<Vec3f>& shapeVertices);
+  /// The same with the shapes of `lights` (their Light::shapes(), in order).
   explicit RayAccel(const Mesh& mesh, const std::vector<AreaLight>& lights = {});
   ~RayAccel();
   RayAccel(const RayAccel&) = delete;
@@ -41,9 +44,12 @@ class RayAccel {
   bool occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
 
   const Mesh& mesh() const { return mesh_; }
-  /// The index into the constructor's `lights` of rectangle-emitter primitive `prim`.
-  int rectangleLight(int prim) const { return rectLightIndex_[prim / 2]; }
-  /// Corners of rectangle-emitter triangle `prim`.
+  /// The index into the constructor's `lights` of light-shape primitive `prim` (-1 when built
+  /// from shape vertices).
+  int rectangleLight(int prim) const {
+    return prim < static_cast<int>(shapeLight_.size()) ? shapeLight_[prim] : -1;
+  }
+  /// Corners of light-shape triangle `prim`.
   void rectangleTriangle(int prim, Vec3f* p0, Vec3f* p1, Vec3f* p2) const;
   double buildSeconds() const { return buildSeconds_; }
 
@@ -51,8 +57,9 @@ class RayAccel {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   const Mesh& mesh_;
-  std::vector<int> rectLightIndex_;
-  std::vector<Vec3f> rectVertices_;
+  void build(const std::vector<Vec3f>& shapeVertices);
+  std::vector<int> shapeLight_;
+  std::vector<Vec3f> shapeVertices_;
   double buildSeconds_ = 0;
 };
 

@@ -1,7 +1,10 @@
 // Unidirectional path tracer with next-event estimation and multiple importance sampling
-// (power heuristic) over the scene's area emitters (OBJ parts and rectangles, one-sided) and its
+// (power heuristic) over the scene's lights, every one through the ps::Light interface
+// (photoscene/scene/light.hpp): area emitters (OBJ parts and rectangles, one-sided), the
 // environment (constant or equirectangular image, importance-sampled by luminance x sin(theta);
-// with window parts it is seen only through them and is sampled through the window triangles).
+// with window parts it is seen only through them and is sampled through the window triangles)
+// and any registered light type. A light is picked with probability half by power, half
+// uniform; delta lights (points, spots) get no MIS.
 //
 // Materials: ps::PartMaterial per part (contract's Lambert + GGX, maps through each part's UV
 // transform, tangent-space normal maps in the frame of t). Window parts are openings: rays pass
@@ -39,15 +42,18 @@
 
 namespace ps {
 
-/// Which emitters shine.
+/// Which lights shine. Lights are numbered as scene.lights.all() lists them: area lights,
+/// lights of registered types, the environment last.
 struct LightSelection {
-  enum class Kind { All, OneArea, EnvironmentOnly } kind = Kind::All;
-  int areaIndex = -1;  ///< Kind::OneArea: index into scene.lights.area
-  /// All: emitters without a radiance are an error; OneArea / EnvironmentOnly: the chosen
-  /// emitter shines with unit radiance (area) or its image x 1 (environment), for the
-  /// lighting least squares (image = sum_i radiance_i * image_i).
+  enum class Kind { All, One, EnvironmentOnly } kind = Kind::All;
+  int index = -1;  ///< Kind::One: index into scene.lights.all()
+  /// All: lights without a scale (radiance) are an error; One / EnvironmentOnly: the chosen
+  /// light shines at unit scale (area: radiance 1; environment: its image x 1), for the
+  /// lighting least squares (image = sum_i scale_i * image_i).
   static LightSelection all() { return {}; }
-  static LightSelection area(int i) { return {Kind::OneArea, i}; }
+  static LightSelection one(int i) { return {Kind::One, i}; }
+  /// Area light i (area lights come first in all()).
+  static LightSelection area(int i) { return one(i); }
   static LightSelection environment() { return {Kind::EnvironmentOnly, -1}; }
 };
 
@@ -99,8 +105,8 @@ class PathTracer {
   /// Renders a linear RGB image (CV_32FC3, camera.width() x camera.height()).
   cv::Mat render(const Camera& camera, const RenderOptions& options,
                  RenderStats* stats = nullptr) const;
-  /// One image per area emitter (unit radiance) and, last, one for the environment when the
-  /// scene has one: the images the lighting least squares combines.
+  /// One image per light of scene.lights.all() at unit scale (area emitters, registered lights,
+  /// the environment last): the images the lighting least squares combines.
   std::vector<cv::Mat> renderPerLight(const Camera& camera, const RenderOptions& options,
                                       RenderStats* stats = nullptr) const;
   /// Radiance arriving at `org` from direction -dir (i.e. seen along dir), one path sample.

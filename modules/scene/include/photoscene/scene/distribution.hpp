@@ -1,4 +1,4 @@
-// Discrete and piecewise-constant distributions for light and environment sampling (private).
+// Discrete and piecewise-constant distributions for light and environment sampling.
 #pragma once
 
 #include <algorithm>
