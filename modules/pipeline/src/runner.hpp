@@ -8,23 +8,10 @@
 #include <string_view>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "declared_keys.hpp"
 #include "stage.hpp"
 
 namespace ps::pipeline {
-
-/// The JSON pointers a declared scene.json key stands for, for one unit (stage.hpp: `[]` and
-/// `{}` wildcards, `views[]` bound for per-view units and `parts.{}` for per-part units). A key
-/// absent from the file still stands for its pointer (adding it changes the key).
-std::vector<nlohmann::json::json_pointer> expandKey(const nlohmann::json& scene,
-                                                    std::string_view key, Unit unit, int view,
-                                                    const std::string& part);
-/// Whether the declared key `declared` covers `key` (the same key or one of its parents).
-bool keyCovers(std::string_view declared, std::string_view key);
-/// Whether a scene.json position holds a file path whose bytes stand for it (`geometry`,
-/// `views/<i>/image`, `views/<i>/segments`, `lights/environment/image`).
-bool isFileKey(const nlohmann::json::json_pointer& at);
 
 /// Every unit's cache key of every stage: keys[stage][unit].
 using StageKeys = std::map<std::string, std::vector<uint64_t>>;

@@ -149,9 +149,9 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
   checkInterrupted();
 }
 
-// lights.json and the scene.json of the twin (inputs copied into the folder so it stands alone)
-void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
-  const Scene& scene = in.wholeScene();
+// The inputs the twin's scene.json names (geometry, photos, label images), copied into the folder
+// so that it stands alone; returns the input scene.json with those paths pointing at the copies.
+nlohmann::json copyInputs(const Scene& scene, const fs::path& out) {
   nlohmann::json j = scene.desc.rawJson;
   const fs::path geometry = fs::path("geometry") / scene.desc.geometry.filename();
   copyFile(scene.desc.geometry, out / geometry);
@@ -169,7 +169,12 @@ void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
       j["views"][v]["segments"] = seg.generic_string();
     }
   }
-  io::LightsFileDesc lf;
+  return j;
+}
+
+// The recovered lights: as lights.json (`lf`, with the exposures) and as scene.json's `lights`
+// (returned); an environment image is copied into the folder.
+nlohmann::json recoveredLights(const Scene& scene, const fs::path& out, io::LightsFileDesc& lf) {
   nlohmann::json lights = nlohmann::json::object();
   lights["area"] = nlohmann::json::array();
   for (const AreaLight& l : scene.lights.area) {
@@ -212,9 +217,17 @@ void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
     lights["environment"] = e;
     lf.environment = d;
   }
+  return lights;
+}
+
+// lights.json and the scene.json of the twin
+void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
+  const Scene& scene = in.wholeScene();
+  nlohmann::json j = copyInputs(scene, out);
+  io::LightsFileDesc lf;
+  j["lights"] = recoveredLights(scene, out, lf);
   lf.exposure = ctx.exposure;
   if (lf.exposure.empty()) lf.exposure.assign(scene.views.size(), 1.0);
-  j["lights"] = lights;
   io::writeLightsJson(out / "lights.json", lf);
   io::writeJsonFile(out / "scene.json", j);
 }
