@@ -75,16 +75,14 @@ StageScope::~StageScope() {
 
 // ---------------------------------------------------------------- the runner
 
-Runner::Runner(StageList stages) {
-  std::vector<std::string> names;
-  for (const auto& s : stages) names.push_back(s->decl.name);
-  auto indexOf = [&](const std::string& name) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
-  };
+namespace {
+
+// Every upstream stage and option a stage declares exists.
+void checkDeclarations(const StageList& stages) {
   for (const auto& s : stages) {
     for (const std::string& up : s->decl.after)
-      if (indexOf(up) < 0)
+      if (std::none_of(stages.begin(), stages.end(),
+                       [&](const auto& t) { return t->decl.name == up; }))
         throw Exception(fmt::format("stage {} runs after '{}', which is not a stage of this run",
                                     s->decl.name, up),
                         __FILE__, __LINE__, __func__);
@@ -93,18 +91,27 @@ Runner::Runner(StageList stages) {
         throw Exception(fmt::format("stage {} declares unknown option '{}'", s->decl.name, o),
                         __FILE__, __LINE__, __func__);
   }
-  // stable topological order: the first stage of the list whose upstream stages are all placed
-  std::vector<bool> placed(stages.size(), false);
+}
+
+}  // namespace
+
+// A stable topological order: each time, the first stage of the list whose upstream stages are
+// all placed.
+Runner::Runner(StageList stages) {
+  checkDeclarations(stages);
+  std::vector<std::string> placed;
   while (stages_.size() < stages.size()) {
     bool progress = false;
-    for (size_t i = 0; i < stages.size() && !progress; ++i) {
-      if (placed[i]) continue;
-      bool ready = true;
-      for (const std::string& up : stages[i]->decl.after) ready = ready && placed[indexOf(up)];
-      if (!ready) continue;
-      placed[i] = true;
+    for (auto& s : stages) {
+      if (!s ||
+          !std::all_of(s->decl.after.begin(), s->decl.after.end(), [&](const std::string& up) {
+            return std::find(placed.begin(), placed.end(), up) != placed.end();
+          }))
+        continue;
+      placed.push_back(s->decl.name);
+      stages_.push_back(std::move(s));
       progress = true;
-      stages_.push_back(std::move(stages[i]));
+      break;
     }
     if (!progress)
       throw Exception("pipeline stages: the `after` declarations form a cycle", __FILE__, __LINE__,

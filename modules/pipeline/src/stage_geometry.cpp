@@ -32,6 +32,7 @@ class GeometryStage : public Stage {
     ctx.views[v].gbuffer = getGBuffer(a);
     return true;
   }
+  void finish(Context&, const Reads&) override { tracer_.reset(); }  // the BVH is not needed after
 
  private:
   std::unique_ptr<PathTracer> tracer_;  ///< gray materials: only what rays hit matters

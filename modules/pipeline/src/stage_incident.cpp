@@ -41,6 +41,10 @@ class IncidentStage : public Stage {
     ctx.views[v].grid = getGrid(a);
     return true;
   }
+  void finish(Context&, const Reads&) override {  // the tracer and maps are not needed after
+    tracer_.reset();
+    materials_.clear();
+  }
 
  private:
   int round_;

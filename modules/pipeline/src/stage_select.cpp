@@ -74,6 +74,7 @@ class SelectStage : public Stage {
     if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
     return true;
   }
+  void finish(Context&, const Reads&) override { bank_.reset(); }  // not needed after
 
  private:
   std::unique_ptr<ExemplarBank> bank_;  ///< built or loaded for the first part that needs it
