@@ -24,83 +24,120 @@ struct PresetBudget {
   int lightSpp = 32;        ///< one-light-at-a-time renders
   int incidentSamples = 4;  ///< samples per incident-light bin
   int incidentStride = 8;
-  int renderSpp = 64;       ///< final renders
-  int refineCandidates = 7; ///< roughness values tried in the second round
+  int renderSpp = 64;        ///< final renders
+  int refineCandidates = 7;  ///< roughness values tried in the second round
   static PresetBudget of(const std::string& preset);
 };
 
-struct ViewWork {
-  Camera camera;        ///< at the working resolution
-  cv::Mat photo;        ///< CV_32FC3, working resolution
-  cv::Mat labels;       ///< CV_32SC1 regions at the working resolution (empty: proposed)
-  uint64_t photoKey = 0;
-  GBuffer gbuffer;
-  uint64_t geometryKey = 0;
-  // align
-  uint64_t alignKey = 0;
-  std::map<int, cv::Mat> photoMask;     ///< part -> M_photo (photo frame)
-  std::map<int, cv::Matx23d> warp;      ///< part -> Eq. (1), photo -> render pixels
-  std::map<int, cv::Mat> fitMask;       ///< part -> M_aln in the render frame
-  cv::Mat lightMask;                    ///< pixels where geometry and photo agree (render frame)
-  // lighting
-  IncidentLightGrid grid;
-  uint64_t incidentKey = 0;
-  cv::Mat partPhoto(int part) const;    ///< the photo warped into the render frame for a part
+/// The inputs of a run at the working resolution (read through `Reads`, stage.hpp).
+struct ViewInput {
+  Camera camera;   ///< at the working resolution
+  cv::Mat photo;   ///< CV_32FC3, working resolution
+  cv::Mat labels;  ///< CV_32SC1 regions at the working resolution (empty: proposed)
 };
+
+/// What the stages compute per view (each field written by the stage named).
+struct ViewWork {
+  GBuffer gbuffer;                   ///< geometry
+  std::map<int, cv::Mat> photoMask;  ///< align: part -> M_photo (photo frame)
+  std::map<int, cv::Matx23d> warp;   ///< align: part -> Eq. (1), photo -> render pixels
+  std::map<int, cv::Mat> fitMask;    ///< align: part -> M_aln in the render frame
+  cv::Mat lightMask;       ///< align: pixels where geometry and photo agree (render frame)
+  IncidentLightGrid grid;  ///< incident0, then incident1
+};
+
+/// `photo` warped into the render frame for a part (the align stage's warp of that part).
+cv::Mat partPhoto(const cv::Mat& photo, const ViewWork& view, int part);
 
 enum class PartMode { Fit, Homogeneous, Fixed, Skip, Emitter, Window, Unseen };
 const char* partModeName(PartMode m);
 
+/// What the stages compute per part (each field written by the stage named).
 struct PartWork {
+  // parts: what the part gets
   int id = -1;
   std::string name;
   PartMode mode = PartMode::Fit;
-  std::string skipped;                  ///< why it was not fitted (materials file fit.skipped)
-  int view = -1;                        ///< the view it is fitted in
-  int pixels = 0;                       ///< M_aln pixels in that view
-  Vec3f median = Vec3f::Constant(0.5f); ///< median photo colour over M_aln (linear)
+  std::string skipped;  ///< why it was not fitted (materials file fit.skipped)
+  // observe (and parts: the fixed material)
+  int view = -1;                         ///< the view it is fitted in
+  int pixels = 0;                        ///< M_aln pixels in that view
+  Vec3f median = Vec3f::Constant(0.5f);  ///< median photo colour over M_aln (linear)
+  // select
   std::string graph = "homogeneous", category = "homogeneous";
   std::vector<std::string> runnersUp;
-  // the fit
+  // fit
   std::vector<float> values;
   UvParams uv;
-  float roughness = 0.7f;               ///< the held mean roughness (or homogeneous roughness)
-  float roughnessScale = 1.0f;          ///< multiplies the graph's roughness map to `roughness`
-  Vec3f albedo = Vec3f::Constant(0.5f); ///< homogeneous albedo
+  float roughness = 0.7f;                ///< the held mean roughness (or homogeneous roughness)
+  float roughnessScale = 1.0f;           ///< multiplies the graph's roughness map to `roughness`
+  Vec3f albedo = Vec3f::Constant(0.5f);  ///< homogeneous albedo
   float metallic = 0.0f, specular = 0.5f;
   double loss = 0, seconds = 0;
   int iterations = 0;
   std::vector<double> history;
-  // second round
+  // refine0, refine1
   float albedoScale = 1.0f;
   Vec3f albedoOffset = Vec3f::Zero();  ///< added to the albedo map before the scale
   float roughnessFactor = 1.0f;
   double refineLoss = 0;
-  uint64_t selectKey = 0, fitKey = 0, refineKey = 0;
   bool textured() const { return mode == PartMode::Fit; }
 };
 
-struct Context {
+class Reads;
+
+/// Everything a run reads (private: stages reach it through `Reads`, stage.hpp).
+struct RunInputs {
   PipelineOptions options;
   std::string preset;
   PresetBudget budget;
   PartFitOptions fitOptions;
   uint64_t seed = 0;
-  Scene scene;
+  Scene scene;  ///< area light radiances as the last lights stage left them
   std::unique_ptr<GraphLibrary> library;
+  std::string bankName;          ///< the exemplar bank's file name (format, library hash, options)
+  std::vector<ViewInput> views;  ///< at the working resolution
+  std::vector<int> freeLights;   ///< area-light indices whose radiance is fitted
+};
+
+/// The state the stages pass along: the inputs (private) and the work state.
+class Context {
+ public:
   std::vector<ViewWork> views;
   std::vector<PartWork> parts;
+  float albedoPin = 1.0f;        ///< observe: scale from photo medians to neutral albedos
+  std::vector<double> exposure;  ///< lights0, then lights1: per view
   std::unique_ptr<StageCache> cache;
   PipelineResult result;
-  float albedoPin = 1.0f;               ///< scale from photo medians to neutral albedos
-  std::vector<int> freeLights;          ///< area-light indices whose radiance is fitted
-  uint64_t lights0Key = 0, lights1Key = 0, exportKey = 0;
-  std::vector<double> exposure;
+  Timer clock;  ///< since the run started
 
-  /// Materials for rendering: neutral (photo medians), or fitted (maps at `mapSize`).
-  std::vector<PartMaterial> neutralMaterials() const;
-  std::vector<PartMaterial> fittedMaterials(int mapSize, bool withRefine) const;
+  /// Reads scene.json and everything it names, checks them and resolves the options; bad input
+  /// throws ps::InputError before anything is written.
+  static std::unique_ptr<Context> load(const PipelineOptions& options);
+  /// The lights stages' result: the free area lights' radiances (in `freeLights` order, then the
+  /// environment's) written into the scene the later path tracers see.
+  void applyLights(const std::vector<Vec3d>& intensity);
+  /// The run in one line (scene, views, parts, lights, preset) for the log.
+  std::string describe() const;
+  /// Fills `result` with what the run recovered (lights, exposure, time, memory).
+  void finishResult();
+
+ private:
+  friend class Reads;   // the stages' only way to their inputs
+  friend class Runner;  // keys from the declarations
+  friend struct ContextTesting;
+  RunInputs in_;
 };
+
+/// Tests only: the inputs, to perturb them and compare keys.
+struct ContextTesting {
+  static RunInputs& inputs(Context& ctx) { return ctx.in_; }
+};
+
+/// Materials for rendering: neutral (photo medians; reads the stages parts and observe, and
+/// `parts.{}.fixed`), or fitted (+ select, fit, refine0; maps at `mapSize`; `library`).
+std::vector<PartMaterial> neutralMaterials(const Context& ctx, const Reads& in);
+std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize);
 
 /// Stage bookkeeping: time and units computed / loaded.
 class StageScope {
@@ -117,19 +154,5 @@ class StageScope {
   /// std::uncaught_exceptions() at the start: more at the end means the stage stopped
   int exceptions_;
 };
-
-// stages (pipeline.cpp)
-void stageGeometry(Context& ctx);
-void stageAlign(Context& ctx);
-void stageLights(Context& ctx, bool fitted);
-void stageIncident(Context& ctx, bool fitted);
-void stageSelect(Context& ctx);
-void stageFit(Context& ctx);
-void stageBaseline(Context& ctx);
-void stageRefine(Context& ctx, int round);  ///< 0: before the global light solve, 1: after
-// outputs (outputs.cpp)
-void stageExport(Context& ctx);
-void stageMetrics(Context& ctx, double secondsSoFar);
-void stageReport(Context& ctx);
 
 }  // namespace ps::pipeline

@@ -3,3 +3,4 @@
 #pragma once
 
 #include "photoscene/align/align.hpp"
+#include "photoscene/align/view_alignment.hpp"

@@ -2,5 +2,6 @@
 #pragma once
 
 #include "photoscene/optim/adam.hpp"
+#include "photoscene/optim/homogeneous_fit.hpp"
 #include "photoscene/optim/part_fit.hpp"
 #include "photoscene/optim/uv_spectrum.hpp"

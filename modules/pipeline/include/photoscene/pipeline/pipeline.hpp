@@ -1,8 +1,9 @@
 // The whole method as one call: photos + coarse CAD in (scene.json), a digital twin out (the
 // output folder of ../shared/spec/scene-format.md section 3).
 //
-// Stages (paper sections 3.1-3.4; each cached on disk under OUT/.cache, keyed by a hash of its
-// inputs, so a rerun redoes only what changed):
+// Stages (paper sections 3.1-3.4; each cached on disk under OUT/.cache, keyed by a hash of what
+// it declares it reads: scene.json keys, file bytes, options and upstream results, so a rerun
+// redoes only what changed; the module's README, "Adding a stage", says how a stage declares):
 //   geometry   per view: G-buffers of the coarse geometry at the working resolution
 //   align      per view: photo regions matched to parts, the Eq. (1) box warp, aligned masks
 //   lights0    emitter intensities under neutral materials (per-part photo medians, roughness

@@ -1,7 +1,8 @@
 // On-disk cache of pipeline stage results, keyed by a hash of everything a stage reads.
 //
-// Every stage computes a 64-bit key from its inputs (file contents, upstream stage keys, options)
-// and looks for `<folder>/<stage>-<key>.bin`. A hit is loaded instead of recomputed; a miss runs
+// Every stage unit has a 64-bit key, derived by the stage runner from what the stage declares it
+// reads (scene.json keys, file contents, options, upstream stage keys), and looks for
+// `<folder>/<stage>-<key>.bin`. A hit is loaded instead of recomputed; a miss runs
 // the stage and stores its result atomically (temporary name + rename), so an interrupted run
 // never leaves a half-written cache entry. A file that fails to read (truncated, older format) is
 // treated as a miss. Keys chain: a stage's key includes its upstream stages' keys, so changing an

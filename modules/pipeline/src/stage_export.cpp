@@ -1,5 +1,7 @@
-// The export stage: the output folder of ../shared/spec/scene-format.md section 3, every file
-// written whole (temporary name + rename).
+// Stage `export`: the output folder of ../shared/spec/scene-format.md section 3 (textures at
+// --texture-size with the graphs evaluated there, materials/*.json, lights.json, scene.json,
+// renders, twin.gltf), every file written whole (temporary name + rename). It reads the whole
+// scene.json: the twin's scene.json is the input's, extended.
 #include <cmath>
 #include <fstream>
 
@@ -7,22 +9,20 @@
 #include <spdlog/spdlog.h>
 #include <opencv2/imgproc.hpp>
 
-#include "context.hpp"
 #include "photoscene/core.hpp"
-#include "photoscene/core/memory.hpp"
-#include "photoscene/eval.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/report.hpp"
+#include "stages.hpp"
 
 namespace ps::pipeline {
-
-namespace fs = std::filesystem;
 
 namespace {
 
 void copyFile(const fs::path& from, const fs::path& to) {
   fs::create_directories(to.parent_path());
-  io::writeAtomically(to, [&](const fs::path& tmp) { fs::copy_file(from, tmp, fs::copy_options::overwrite_existing); });
+  io::writeAtomically(to, [&](const fs::path& tmp) {
+    fs::copy_file(from, tmp, fs::copy_options::overwrite_existing);
+  });
 }
 
 int nextPowerOfTwo(int n) {
@@ -38,16 +38,19 @@ cv::Mat atSize(const cv::Mat& m, int size) {
   return out;
 }
 
-nlohmann::json vec(const Vec3f& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec(const Vec3f& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 // The maps of a fitted part at the texture size: the graph re-evaluated at the next power of two
 // (never upsampled), area-downsampled when the size is not one.
-void writeTextures(Context& ctx, const PartWork& p, io::MaterialFileDesc& m, const fs::path& out) {
-  const int size = ctx.options.textureSize;
-  MaterialGraph g = ctx.library->create(p.graph);
+void writeTextures(const Reads& in, const PartWork& p, io::MaterialFileDesc& m,
+                   const fs::path& out) {
+  const int size = in.textureSize();
+  MaterialGraph g = in.library().create(p.graph);
   g.setValues(p.values);
-  const MaterialMaps maps =
-      g.evaluate(nextPowerOfTwo(size), MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+  const MaterialMaps maps = g.evaluate(
+      nextPowerOfTwo(size), MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
   const fs::path tex = out / "textures";
   fs::create_directories(tex);
   const cv::Mat albedo = atSize(maps.albedo, size);
@@ -71,7 +74,9 @@ void writeTextures(Context& ctx, const PartWork& p, io::MaterialFileDesc& m, con
   m.maps["roughness"] = tex / (p.name + "_roughness.png");
   const cv::Scalar mean = cv::mean(albedo);
   m.homogeneous.albedo =
-      ((Vec3d(mean[0], mean[1], mean[2]) + p.albedoOffset.cast<double>()) * p.albedoScale).cwiseMax(0.0).cwiseMin(1.0);
+      ((Vec3d(mean[0], mean[1], mean[2]) + p.albedoOffset.cast<double>()) * p.albedoScale)
+          .cwiseMax(0.0)
+          .cwiseMin(1.0);
   m.homogeneous.roughness = std::clamp(p.roughness * p.roughnessFactor, 0.0f, 1.0f);
   nlohmann::json params = nlohmann::json::object();
   for (const GraphParameter& gp : g.parameters()) {
@@ -81,7 +86,7 @@ void writeTextures(Context& ctx, const PartWork& p, io::MaterialFileDesc& m, con
   m.params = params;
 }
 
-void writeMaterials(Context& ctx, const fs::path& out) {
+void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
   fs::create_directories(out / "materials");
   Progress progress("textures", static_cast<int64_t>(ctx.parts.size()));
   parallelFor(0, static_cast<int64_t>(ctx.parts.size()), [&](int64_t i) {
@@ -95,7 +100,7 @@ void writeMaterials(Context& ctx, const fs::path& out) {
     m.homogeneous.roughness = 0.7;
     switch (p.mode) {
       case PartMode::Fit: {
-        writeTextures(ctx, p, m, out);
+        writeTextures(in, p, m, out);
         const UvTransform t = p.uv.toTransform();
         m.uv.rotationDeg = t.rotationDeg;
         m.uv.scale = t.scale.cast<double>();
@@ -133,7 +138,7 @@ void writeMaterials(Context& ctx, const fs::path& out) {
       m.fitExtra["refine_loss"] = p.refineLoss;
       if (!p.runnersUp.empty()) m.fitExtra["runners_up"] = p.runnersUp;
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
-      if (ctx.options.baseline != Baseline::None) m.fitExtra["baseline"] = baselineName(ctx.options.baseline);
+      if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());
     } else {
       m.skipped = p.skipped;
     }
@@ -144,25 +149,32 @@ void writeMaterials(Context& ctx, const fs::path& out) {
   checkInterrupted();
 }
 
-// lights.json and the scene.json of the twin (inputs copied into the folder so it stands alone)
-void writeSceneFiles(Context& ctx, const fs::path& out) {
-  const Scene& scene = ctx.scene;
+// The inputs the twin's scene.json names (geometry, photos, label images), copied into the folder
+// so that it stands alone; returns the input scene.json with those paths pointing at the copies.
+nlohmann::json copyInputs(const Scene& scene, const fs::path& out) {
   nlohmann::json j = scene.desc.rawJson;
   const fs::path geometry = fs::path("geometry") / scene.desc.geometry.filename();
   copyFile(scene.desc.geometry, out / geometry);
   j["geometry"] = geometry.generic_string();
   for (size_t v = 0; v < scene.views.size(); ++v) {
     const io::ViewDesc& d = scene.desc.views[v];
-    const fs::path photo = fs::path("photos") / fmt::format("view{}{}", v, d.image.extension().string());
+    const fs::path photo =
+        fs::path("photos") / fmt::format("view{}{}", v, d.image.extension().string());
     copyFile(d.image, out / photo);
     j["views"][v]["image"] = photo.generic_string();
     if (d.segments) {
-      const fs::path seg = fs::path("segments") / fmt::format("view{}{}", v, d.segments->extension().string());
+      const fs::path seg =
+          fs::path("segments") / fmt::format("view{}{}", v, d.segments->extension().string());
       copyFile(*d.segments, out / seg);
       j["views"][v]["segments"] = seg.generic_string();
     }
   }
-  io::LightsFileDesc lf;
+  return j;
+}
+
+// The recovered lights: as lights.json (`lf`, with the exposures) and as scene.json's `lights`
+// (returned); an environment image is copied into the folder.
+nlohmann::json recoveredLights(const Scene& scene, const fs::path& out, io::LightsFileDesc& lf) {
   nlohmann::json lights = nlohmann::json::object();
   lights["area"] = nlohmann::json::array();
   for (const AreaLight& l : scene.lights.area) {
@@ -205,22 +217,30 @@ void writeSceneFiles(Context& ctx, const fs::path& out) {
     lights["environment"] = e;
     lf.environment = d;
   }
+  return lights;
+}
+
+// lights.json and the scene.json of the twin
+void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
+  const Scene& scene = in.wholeScene();
+  nlohmann::json j = copyInputs(scene, out);
+  io::LightsFileDesc lf;
+  j["lights"] = recoveredLights(scene, out, lf);
   lf.exposure = ctx.exposure;
   if (lf.exposure.empty()) lf.exposure.assign(scene.views.size(), 1.0);
-  j["lights"] = lights;
   io::writeLightsJson(out / "lights.json", lf);
   io::writeJsonFile(out / "scene.json", j);
 }
 
-void writeRenders(Context& ctx, const fs::path& out, std::vector<fs::path>& written) {
+void writeRenders(const Reads& in, const fs::path& out, std::vector<fs::path>& written) {
   const Twin twin = loadTwin(out);
   const PathTracer tracer(twin.scene, twin.materials);
   fs::create_directories(out / "renders");
   for (size_t v = 0; v < twin.scene.views.size(); ++v) {
     checkInterrupted();
     RenderOptions ro;
-    ro.spp = ctx.budget.renderSpp;
-    ro.seed = ctx.seed + 7919 * v;
+    ro.spp = in.renderSpp();
+    ro.seed = in.seed() + 7919 * v;
     RenderStats stats;
     const double exposure = v < twin.exposure.size() ? twin.exposure[v] : 1.0;
     const cv::Mat image = renderTwinView(tracer, twin.scene.views[v].camera, ro, exposure, &stats);
@@ -230,97 +250,71 @@ void writeRenders(Context& ctx, const fs::path& out, std::vector<fs::path>& writ
     io::writeImage(png, image);
     written.push_back(exr);
     written.push_back(png);
-    spdlog::info("render view {}: {}x{} at {} spp in {:.1f} s", v, image.cols, image.rows, ro.spp, stats.seconds);
+    spdlog::info("render view {}: {}x{} at {} spp in {:.1f} s", v, image.cols, image.rows, ro.spp,
+                 stats.seconds);
   }
 }
 
 }  // namespace
 
-void stageExport(Context& ctx) {
-  StageScope stage(ctx, "export");
-  const fs::path& out = ctx.options.out;
-  Hasher h;
-  h.add(uint64_t{6}).add(hashFile(ctx.options.scene)).add(ctx.options.textureSize).add(ctx.budget.renderSpp);
-  h.add(static_cast<int>(ctx.options.baseline)).add(ctx.options.writeReport).add(ctx.options.writeGltf);
-  for (const PartWork& p : ctx.parts) h.add(static_cast<int>(p.mode)).add(p.fitKey).add(p.refineKey);
-  for (const AreaLight& l : ctx.scene.lights.area) {
-    const Vec3f r = l.radiance.value_or(Vec3f::Zero());
-    h.add(r.x()).add(r.y()).add(r.z());
+namespace {
+
+class ExportStage : public Stage {
+ public:
+  explicit ExportStage(std::vector<std::string> after) {
+    decl.name = "export";
+    decl.version = 7;
+    decl.scene = {""};
+    decl.options = {"texture_size", "preset", "render_spp", "baseline", "write_gltf", "library"};
+    decl.after = std::move(after);
+    decl.writes = {"OUT/materials/*.json",
+                   "OUT/textures/*",
+                   "OUT/lights.json",
+                   "OUT/scene.json",
+                   "OUT/geometry, photos, segments, env (copies)",
+                   "OUT/renders/*",
+                   "OUT/twin.gltf, twin.bin"};
   }
-  for (double e : ctx.exposure) h.add(e);
-  const uint64_t key = h.digest();
-  ctx.exportKey = key;
-  if (auto hit = ctx.cache->load("export", key)) {
-    const uint64_t n = hit->get<uint64_t>();
-    bool complete = true;
-    for (uint64_t i = 0; i < n; ++i) complete = fs::exists(out / hit->getString()) && complete;
-    if (complete) {
-      stage.cached();
-      return;
+
+  bool compute(Context& ctx, const Reads& in, int) override {
+    const fs::path& out = in.out();
+    writeMaterials(ctx, in, out);
+    writeSceneFiles(ctx, in, out);
+    std::vector<fs::path> written = {out / "scene.json", out / "lights.json"};
+    for (const PartWork& p : ctx.parts) written.push_back(out / "materials" / (p.name + ".json"));
+    writeRenders(in, out, written);
+    if (in.writeGltf()) {
+      checkInterrupted();
+      const GltfExportSummary g = writeTwinGltf(loadTwin(out), out);
+      spdlog::info("glTF: {} meshes, {} materials, {} images, {} emitters", g.meshes, g.materials,
+                   g.images, g.emitters);
+      written.push_back(out / "twin.gltf");
+      written.push_back(out / "twin.bin");
     }
+    written_.clear();
+    for (const fs::path& f : written) written_.push_back(fs::relative(f, out).generic_string());
+    return true;
   }
-  writeMaterials(ctx, out);
-  writeSceneFiles(ctx, out);
-  std::vector<fs::path> written = {out / "scene.json", out / "lights.json"};
-  for (const PartWork& p : ctx.parts) written.push_back(out / "materials" / (p.name + ".json"));
-  writeRenders(ctx, out, written);
-  if (ctx.options.writeGltf) {
-    checkInterrupted();
-    const GltfExportSummary g = writeTwinGltf(loadTwin(out), out);
-    spdlog::info("glTF: {} meshes, {} materials, {} images, {} emitters", g.meshes, g.materials, g.images, g.emitters);
-    written.push_back(out / "twin.gltf");
-    written.push_back(out / "twin.bin");
+  // the files written, so that a rerun whose files were deleted writes them again
+  void save(const Context&, int, Archive& a) const override {
+    a.put<uint64_t>(written_.size());
+    for (const std::string& f : written_) a.putString(f);
   }
-  Archive a;
-  a.put<uint64_t>(written.size());
-  for (const fs::path& f : written) a.putString(fs::relative(f, out).generic_string());
-  ctx.cache->store("export", key, a);
-  stage.computed();
-}
+  bool load(Context&, const Reads& in, int, Archive& a) override {
+    const uint64_t n = a.get<uint64_t>();
+    bool complete = true;
+    for (uint64_t i = 0; i < n; ++i) complete = fs::exists(in.out() / a.getString()) && complete;
+    return complete;
+  }
 
-void stageMetrics(Context& ctx, double secondsSoFar) {
-  StageScope stage(ctx, "metrics");
-  const fs::path& out = ctx.options.out;
-  const uint64_t key = Hasher().add(ctx.exportKey).add(ctx.budget.renderSpp).digest();
-  if (ctx.cache->load("metrics", key) && fs::exists(out / "metrics.json")) {
-    stage.cached();
-    return;
-  }
-  eval::EvalOptions o;
-  o.spp = ctx.budget.renderSpp;
-  o.seed = ctx.seed;
-  const eval::TwinEvaluation e = eval::evaluateTwin(out, ctx.options.scene, o);
-  std::map<std::string, double> seconds;
-  for (const StageRecord& r : ctx.result.stages) seconds[r.name] = r.seconds;
-  seconds["metrics"] = e.seconds;
-  eval::writeMetricsJson(out, e, seconds, ctx.preset, secondsSoFar + e.seconds);
-  // peak resident memory (getrusage ru_maxrss, monotonic) at the end of each stage so far
-  nlohmann::json metrics = io::readJsonFile(out / "metrics.json");
-  nlohmann::json stages = nlohmann::json::object();
-  for (const StageRecord& r : ctx.result.stages)
-    stages[r.name] = std::round(r.peakMemoryMiB * 10) / 10;
-  const double peak = peakMemoryMiB();
-  stages["metrics"] = std::round(peak * 10) / 10;
-  metrics["peak_memory_mib"] = {
-      {"run", stages["metrics"]}, {"after_stage", stages}, {"source", "getrusage ru_maxrss"}};
-  io::writeJsonFile(out / "metrics.json", metrics);
-  ctx.cache->store("metrics", key, Archive());
-  stage.computed();
-}
+ private:
+  std::vector<std::string> written_;
+};
 
-void stageReport(Context& ctx) {
-  if (!ctx.options.writeReport) return;
-  StageScope stage(ctx, "report");
-  const fs::path& out = ctx.options.out;
-  const uint64_t key = Hasher().add(ctx.exportKey).add(hashFile(out / "metrics.json")).digest();
-  if (ctx.cache->load("report", key) && fs::exists(out / "report.html")) {
-    stage.cached();
-    return;
-  }
-  const ReportSummary r = writeReport(out);
-  if (!r.viewerWritten) spdlog::warn("report.html has no 3D viewer: {}", r.viewerNote);
-  ctx.cache->store("report", key, Archive());
-  stage.computed();
+}  // namespace
+
+std::unique_ptr<Stage> makeExportStage(std::vector<std::string> after) {
+  return std::make_unique<ExportStage>(std::move(after));
 }
 
 }  // namespace ps::pipeline

@@ -1,0 +1,63 @@
+// Closed-form fits of a part's material through the render layer: a homogeneous material, the
+// second round's albedo scale / offset and roughness factor of a textured one, and the
+// shading-median baseline.
+//
+// The render layer's image of a dielectric is linear in its albedo: I(a) = I0 + a (.) D, with I0
+// the specular part (no albedo) and D the diffuse response to a white albedo. So for a given
+// roughness the albedo that matches the photo's mean is a closed form per channel, and only the
+// roughness is searched over a few candidates.
+//
+//   const ps::PartGeometry geo = ps::preparePartGeometry(gb, cam, grid, mask, part);
+//   const ps::HomogeneousFit f = ps::fitHomogeneous(geo, photo, ps::roughnessGrid(7));
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "photoscene/core/math.hpp"
+#include "photoscene/render.hpp"
+
+namespace ps {
+
+struct HomogeneousFit {
+  Vec3f albedo = Vec3f::Constant(0.5f);  ///< linear RGB in [0, 1]
+  float roughness = 0.7f;
+  double loss = 0;  ///< statLoss of the fitted render against the photo
+};
+
+/// `n` roughness values evenly spaced over [0.15, 0.95] (0.15 alone for n = 1).
+std::vector<float> roughnessGrid(int n);
+
+/// The homogeneous material that best explains the photo over the part's pixels: per roughness
+/// candidate, the albedo whose render matches the photo's mean per channel (clamped to [0, 1]);
+/// the candidate with the lowest statLoss wins.
+/// @param photo CV_32FC3 linear RGB in the render frame (the part's photo warped by Eq. 1)
+HomogeneousFit fitHomogeneous(const PartGeometry& geometry, const cv::Mat& photo,
+                              const std::vector<float>& roughnesses);
+
+/// The second round for a textured part (the maps keep their pattern).
+struct TexturedRefine {
+  float albedoScale = 1.0f;            ///< s: albedo = s (map + o), in [0.25, 4]
+  Vec3f albedoOffset = Vec3f::Zero();  ///< o, per channel in [-0.5, 0.5]
+  float roughnessFactor = 1.0f;        ///< multiplies the held roughness
+  double loss = 0;                     ///< statLoss of the best candidate
+};
+
+/// Per roughness factor in `candidates` values log-spaced over [0.5, 2]: the one albedo scale s
+/// that matches the photo's channel means by least squares, then the per-channel offset o that
+/// matches each channel's mean, so the colour comes out right where the graph's colour
+/// parameters could not reach it; the factor with the lowest statLoss wins.
+/// @param photo   CV_32FC3 linear RGB in the render frame; @param mask CV_8UC1 M_aln
+/// @param albedo  CV_32FC3 albedo map; @param normal CV_32FC3 tangent-space normal map
+/// @param uv      the part's UV transform; @param roughness the held mean roughness
+TexturedRefine refineTextured(const PartGeometry& geometry, const cv::Mat& photo,
+                              const cv::Mat& mask, const cv::Mat& albedo, const cv::Mat& normal,
+                              const UvParams& uv, float roughness, int candidates);
+
+/// The shading-median baseline (an inverse-rendering stand-in): per channel, the median over
+/// the part's pixels of photo / diffuse shading (the Lambert render with a white albedo),
+/// clamped to [0, 1]; 0.5 for a channel with no shaded pixel.
+Vec3f shadingMedianAlbedo(const PartGeometry& geometry, const cv::Mat& photo);
+
+}  // namespace ps

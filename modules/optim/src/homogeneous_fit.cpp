@@ -1,0 +1,141 @@
+#include "photoscene/optim/homogeneous_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "photoscene/optim/part_fit.hpp"
+
+namespace ps {
+
+namespace {
+cv::Mat constantMap(const Vec3f& v) {
+  return cv::Mat(4, 4, CV_32FC3, cv::Scalar(v.x(), v.y(), v.z()));
+}
+}  // namespace
+
+std::vector<float> roughnessGrid(int n) {
+  std::vector<float> r;
+  for (int i = 0; i < n; ++i) r.push_back(0.15f + 0.8f * i / std::max(1, n - 1));
+  return r;
+}
+
+HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
+                              const std::vector<float>& roughnesses) {
+  HomogeneousFit best;
+  best.loss = std::numeric_limits<double>::infinity();
+  cv::Scalar photoMean(0, 0, 0);
+  for (const cv::Point& q : geo.pixels) {
+    const cv::Vec3f c = photo.at<cv::Vec3f>(q);
+    for (int k = 0; k < 3; ++k) photoMean[k] += c[k];
+  }
+  for (int k = 0; k < 3; ++k) photoMean[k] /= std::max<size_t>(1, geo.pixels.size());
+  for (float r : roughnesses) {
+    RenderLayerParams p;
+    p.geometry = &geo;
+    p.roughnessValue = r;
+    p.albedo = constantMap(Vec3f::Zero());
+    renderLayerForward(p);
+    const cv::Mat i0 = p.image.clone();
+    p.albedo = constantMap(Vec3f::Ones());
+    renderLayerForward(p);
+    const cv::Mat d = p.image - i0;
+    cv::Scalar s0(0, 0, 0), sd(0, 0, 0);
+    for (const cv::Point& q : geo.pixels) {
+      const cv::Vec3f a = i0.at<cv::Vec3f>(q), b = d.at<cv::Vec3f>(q);
+      for (int k = 0; k < 3; ++k) {
+        s0[k] += a[k];
+        sd[k] += b[k];
+      }
+    }
+    Vec3f albedo;
+    const double n = std::max<size_t>(1, geo.pixels.size());
+    for (int k = 0; k < 3; ++k) {
+      const double diffuse = sd[k] / n;
+      albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoMean[k] - s0[k] / n) / diffuse) : 0.5f;
+    }
+    albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
+    const cv::Mat render = i0 + d.mul(cv::Scalar(albedo.x(), albedo.y(), albedo.z()));
+    const double loss = statLoss(photo, render, geo.pixels, nullptr);
+    if (loss < best.loss) best = {albedo, r, loss};
+  }
+  return best;
+}
+
+TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, const cv::Mat& mask,
+                              const cv::Mat& albedo, const cv::Mat& normal, const UvParams& uv,
+                              float roughness, int n) {
+  TexturedRefine best;
+  best.loss = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < n; ++c) {
+    const float factor =
+        std::exp(std::log(0.5f) + (std::log(2.0f) - std::log(0.5f)) * c / std::max(1, n - 1));
+    RenderLayerParams rp;
+    rp.geometry = &geo;
+    rp.uv = uv;
+    rp.normal = normal;
+    rp.roughnessValue = std::clamp(roughness * factor, 0.02f, 1.0f);
+    rp.albedo = cv::Mat::zeros(albedo.size(), CV_32FC3);
+    renderLayerForward(rp);
+    const cv::Mat i0 = rp.image.clone();
+    rp.albedo = albedo;
+    renderLayerForward(rp);
+    const cv::Mat d = rp.image - i0;
+    rp.albedo = cv::Mat(albedo.size(), CV_32FC3, cv::Scalar::all(1));
+    renderLayerForward(rp);
+    const cv::Mat w = rp.image - i0;  // the diffuse response to a white albedo
+    // the render is linear in the albedo (a dielectric): i0 + s (d + o (.) w) for the contract's
+    // albedo = s (map + o). One scale s by least squares on the channel means, then the
+    // per-channel offset o that matches each channel's mean: the pattern keeps its contrast, the
+    // colour comes out right even where the graph's colour parameters could not reach it.
+    double num = 0, den = 0;
+    const cv::Scalar mp = cv::mean(photo, mask), m0 = cv::mean(i0, mask), md = cv::mean(d, mask),
+                     mw = cv::mean(w, mask);
+    for (int k = 0; k < 3; ++k) {
+      num += (mp[k] - m0[k]) * md[k];
+      den += md[k] * md[k];
+    }
+    const float s = den > 1e-12 ? std::clamp(static_cast<float>(num / den), 0.25f, 4.0f) : 1.0f;
+    Vec3f o = Vec3f::Zero();
+    for (int k = 0; k < 3; ++k)
+      if (mw[k] > 1e-9)
+        o[k] =
+            std::clamp(static_cast<float>((mp[k] - m0[k] - s * md[k]) / (s * mw[k])), -0.5f, 0.5f);
+    const cv::Mat render = i0 + (d + w.mul(cv::Scalar(o.x(), o.y(), o.z()))) * s;
+    const double loss = statLoss(photo, render, geo.pixels, nullptr);
+    if (loss < best.loss) {
+      best.loss = loss;
+      best.albedoScale = s;
+      best.albedoOffset = o;
+      best.roughnessFactor = rp.roughnessValue / std::max(roughness, 1e-4f);
+    }
+  }
+  return best;
+}
+
+Vec3f shadingMedianAlbedo(const PartGeometry& geo, const cv::Mat& photo) {
+  RenderLayerParams rp;
+  rp.geometry = &geo;
+  rp.roughnessValue = 1.0f;
+  rp.specular = 0.0f;  // pure Lambert shading
+  rp.albedo = constantMap(Vec3f::Ones());
+  renderLayerForward(rp);
+  std::vector<float> ratio[3];
+  for (const cv::Point& q : geo.pixels) {
+    const cv::Vec3f s = rp.image.at<cv::Vec3f>(q), c = photo.at<cv::Vec3f>(q);
+    for (int k = 0; k < 3; ++k)
+      if (s[k] > 1e-6f) ratio[k].push_back(c[k] / s[k]);
+  }
+  Vec3f albedo;
+  for (int k = 0; k < 3; ++k) {
+    if (ratio[k].empty()) {
+      albedo[k] = 0.5f;
+      continue;
+    }
+    std::nth_element(ratio[k].begin(), ratio[k].begin() + ratio[k].size() / 2, ratio[k].end());
+    albedo[k] = std::clamp(ratio[k][ratio[k].size() / 2], 0.0f, 1.0f);
+  }
+  return albedo;
+}
+
+}  // namespace ps

@@ -1,0 +1,132 @@
+// The context of a run: its inputs loaded and checked (Context::load), the lights the lights
+// stages write into the scene, and the run's result.
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
+#include "photoscene/io.hpp"
+#include "photoscene/select.hpp"
+#include "stage.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+fs::path defaultBankCache() {
+  if (const char* d = std::getenv("PS_CACHE_DIR"); d && *d) return d;
+  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return fs::path(d) / "photoscene";
+  if (const char* d = std::getenv("HOME"); d && *d) return fs::path(d) / ".cache/photoscene";
+  return fs::temp_directory_path() / "photoscene-cache";
+}
+
+// What the user asked for, checked before anything is written: the preset, the graphs `parts`
+// forces (the texture size is checked before the scene is read).
+void checkPresetAndGraphs(const RunInputs& in) {
+  const PipelineOptions& o = in.options;
+  if (in.preset != "fast" && in.preset != "balanced" && in.preset != "paper")
+    throw InputError(o.scene.string(), "options.preset",
+                     "expected fast, balanced or paper, got '" + in.preset + "'");
+  const std::vector<std::string> names = in.library->names();
+  for (const auto& [name, part] : in.scene.desc.parts)
+    if (part.graph && !std::binary_search(names.begin(), names.end(), *part.graph))
+      throw InputError(o.scene.string(), "parts." + name + ".graph",
+                       "expected a graph of the library (`photoscene graphs --list`), got '" +
+                           *part.graph + "'");
+}
+
+// A view at the working resolution (`workWidth` pixels across, never enlarged).
+ViewInput workingView(const View& input, int workWidth) {
+  ViewInput w;
+  const int width = std::min(input.camera.width(), std::max(16, workWidth));
+  const int height = std::max(1, static_cast<int>(std::lround(double(input.camera.height()) *
+                                                              width / input.camera.width())));
+  w.camera = input.camera.resized(width, height);
+  if (width == input.photo.cols && height == input.photo.rows)
+    w.photo = input.photo;
+  else
+    cv::resize(input.photo, w.photo, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+  if (!input.segments.empty())
+    cv::resize(input.segments, w.labels, w.photo.size(), 0, 0, cv::INTER_NEAREST);
+  return w;
+}
+
+}  // namespace
+
+std::unique_ptr<Context> Context::load(const PipelineOptions& options) {
+  auto ctx = std::make_unique<Context>();
+  RunInputs& in = ctx->in_;
+  in.options = options;
+  if (in.options.bankCache.empty()) in.options.bankCache = defaultBankCache();
+  if (options.textureSize < 4 || options.textureSize > 16384)
+    throw InputError("--texture-size", "",
+                     fmt::format("expected 4..16384, got {}", options.textureSize));
+  in.scene = loadScene(options.scene);
+  in.preset = options.preset.value_or(in.scene.desc.options.preset);
+  in.library = std::make_unique<GraphLibrary>(GraphLibrary::load());
+  checkPresetAndGraphs(in);
+  in.bankName = ExemplarBank::cacheFileName(*in.library, {});
+  in.seed = in.scene.desc.options.seed;
+  in.budget = PresetBudget::of(in.preset);
+  in.fitOptions = PartFitOptions::preset(in.preset);
+  for (size_t k = 0; k < in.scene.lights.area.size(); ++k)
+    if (!in.scene.lights.area[k].radiance) in.freeLights.push_back(static_cast<int>(k));
+  for (const View& input : in.scene.views)
+    in.views.push_back(workingView(input, options.workWidth));
+  // the units: one work record per view and per part
+  ctx->views.resize(in.scene.views.size());
+  for (const Part& part : in.scene.parts) {
+    PartWork p;
+    p.id = part.id;
+    p.name = part.name;
+    ctx->parts.push_back(std::move(p));
+  }
+  return ctx;
+}
+
+void Context::applyLights(const std::vector<Vec3d>& intensity) {
+  LightSet& lights = in_.scene.lights;
+  for (size_t i = 0; i < in_.freeLights.size() && i < intensity.size(); ++i)
+    lights.area[in_.freeLights[i]].radiance = intensity[i].cast<float>();
+  if (lights.environment && intensity.size() == in_.freeLights.size() + 1)
+    lights.environment->radiance = intensity.back().cast<float>();
+}
+
+std::string Context::describe() const {
+  const Scene& scene = in_.scene;
+  const PipelineOptions& o = in_.options;
+  return fmt::format(
+      "{} ({} views, {} parts, {} area lights{}), preset {}{}", o.scene.string(),
+      scene.views.size(), scene.parts.size(), scene.lights.area.size(),
+      scene.lights.environment ? " + environment" : "", in_.preset,
+      o.baseline == Baseline::None ? "" : fmt::format(", baseline {}", baselineName(o.baseline)));
+}
+
+void Context::finishResult() {
+  const Scene& scene = in_.scene;
+  result.out = in_.options.out;
+  result.preset = in_.preset;
+  result.totalSeconds = clock.seconds();
+  for (const AreaLight& l : scene.lights.area) {
+    result.lightNames.push_back(l.name);
+    result.lightRadiance.push_back(l.radiance.value_or(Vec3f::Zero()).cast<double>());
+  }
+  if (scene.lights.environment) {
+    result.lightNames.push_back("environment");
+    result.lightRadiance.push_back(scene.lights.environment->radiance.cast<double>());
+  }
+  result.exposure = exposure;
+  result.peakMemoryMiB = peakMemoryMiB();
+}
+
+cv::Mat partPhoto(const cv::Mat& photo, const ViewWork& view, int part) {
+  cv::Mat out;
+  cv::warpAffine(photo, out, cv::Mat(view.warp.at(part)), photo.size(), cv::INTER_LINEAR,
+                 cv::BORDER_REFLECT);
+  return out;
+}
+
+}  // namespace ps::pipeline

@@ -1,0 +1,53 @@
+// The materials the path tracer renders with between stages: neutral (round 0) and fitted.
+#include "stage.hpp"
+
+namespace ps::pipeline {
+
+std::vector<PartMaterial> neutralMaterials(const Context& ctx, const Reads& in) {
+  std::vector<PartMaterial> mats;
+  for (const PartWork& p : ctx.parts) {
+    PartMaterial m = PartMaterial::defaultGray(p.name);
+    if (p.mode == PartMode::Fixed) {
+      const io::HomogeneousDesc& f = *in.partFixed(p.id);
+      m.albedo = f.albedo.cast<float>();
+      m.roughness = static_cast<float>(f.roughness);
+      m.metallic = static_cast<float>(f.metallic);
+      m.specular = static_cast<float>(f.specular);
+    } else if (p.mode == PartMode::Emitter) {
+      m.albedo = Vec3f::Zero();
+    } else if (p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) {
+      m.albedo = (p.median * ctx.albedoPin).cwiseMin(0.95f).cwiseMax(0.005f);
+      m.roughness = 0.7f;
+    }
+    mats.push_back(std::move(m));
+  }
+  return mats;
+}
+
+std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize) {
+  std::vector<PartMaterial> mats = neutralMaterials(ctx, in);
+  for (const PartWork& p : ctx.parts) {
+    PartMaterial& m = mats[p.id];
+    if (p.mode == PartMode::Homogeneous) {
+      m.albedo = (p.albedo * p.albedoScale).cwiseMin(1.0f);
+      m.roughness = std::clamp(p.roughness * p.roughnessFactor, 0.0f, 1.0f);
+    } else if (p.mode == PartMode::Fit) {
+      MaterialGraph g = in.library().create(p.graph);
+      g.setValues(p.values);
+      const MaterialMaps maps =
+          g.evaluate(mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+      m.albedoMap = FloatTexture(maps.albedo);
+      m.normalMap = FloatTexture(maps.normal);
+      m.roughnessMap = FloatTexture(maps.roughness);
+      m.uv = p.uv.toTransform();
+      m.albedoScale = p.albedoScale;
+      m.albedoOffset = p.albedoOffset;
+      m.roughnessScale = p.roughnessScale * p.roughnessFactor;
+      m.roughness = p.roughness;
+      m.fromFile = true;
+    }
+  }
+  return mats;
+}
+
+}  // namespace ps::pipeline

@@ -1,0 +1,83 @@
+// Presets, baselines and part modes: the names a run is configured with.
+#include "photoscene/core/error.hpp"
+#include "context.hpp"
+
+namespace ps {
+
+Baseline parseBaseline(const std::string& name) {
+  if (name.empty() || name == "none") return Baseline::None;
+  if (name == "pixel-median") return Baseline::PixelMedian;
+  if (name == "shading-median") return Baseline::ShadingMedian;
+  throw InputError("--baseline", "",
+                   "expected none, pixel-median or shading-median, got '" + name + "'");
+}
+
+const char* baselineName(Baseline b) {
+  switch (b) {
+    case Baseline::PixelMedian:
+      return "pixel-median";
+    case Baseline::ShadingMedian:
+      return "shading-median";
+    default:
+      return "none";
+  }
+}
+
+const StageRecord* PipelineResult::stage(const std::string& name) const {
+  for (const StageRecord& s : stages)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+int PipelineResult::computedUnits() const {
+  int n = 0;
+  for (const StageRecord& s : stages) n += s.computed;
+  return n;
+}
+
+namespace pipeline {
+
+PresetBudget PresetBudget::of(const std::string& preset) {
+  PresetBudget b;
+  // incident-light samples: below 4 per bin the grid's noise reads as texture and the UV fit
+  // runs to a much finer scale (the sample's floor: 0.5 with 4 samples, 6.5 with 2)
+  b.incidentSamples = 8;
+  if (preset == "fast") {
+    b.lightSpp = 16;
+    b.incidentSamples = 4;
+    b.incidentStride = 8;
+    b.renderSpp = 32;
+    b.refineCandidates = 5;
+  } else if (preset == "paper") {
+    b.lightSpp = 64;
+    b.incidentSamples = 16;
+    b.incidentStride = 4;
+    b.renderSpp = 256;
+    b.refineCandidates = 9;
+  }
+  return b;
+}
+
+const char* partModeName(PartMode m) {
+  switch (m) {
+    case PartMode::Fit:
+      return "fit";
+    case PartMode::Homogeneous:
+      return "homogeneous";
+    case PartMode::Fixed:
+      return "fixed";
+    case PartMode::Skip:
+      return "skip";
+    case PartMode::Emitter:
+      return "emitter";
+    case PartMode::Window:
+      return "window";
+    case PartMode::Unseen:
+      return "unseen";
+  }
+  return "?";
+}
+
+}  // namespace pipeline
+
+}  // namespace ps

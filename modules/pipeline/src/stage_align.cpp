@@ -1,0 +1,154 @@
+// Stages `align`, `observe` and `pin`: per view, the photo's regions matched to parts and the
+// Eq. (1) box warp (align module); then per part, the view that sees it best, its aligned pixels
+// and median colour; then the scale pin of the neutral materials.
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "photoscene/align.hpp"
+#include "stages.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+class AlignStage : public Stage {
+ public:
+  AlignStage() {
+    decl.name = "align";
+    decl.unit = Unit::View;
+    decl.scene = {"geometry",         "views[].camera",
+                  "views[].image",    "views[].color_space",
+                  "views[].segments", "views[].segment_parts"};
+    decl.options = {"work_width"};
+    decl.after = {"geometry"};
+    decl.writes = {"ViewWork::photoMask", "ViewWork::warp", "ViewWork::fitMask",
+                   "ViewWork::lightMask"};
+  }
+
+  bool compute(Context& ctx, const Reads& in, int v) override {
+    ViewWork& view = ctx.views[v];
+    const cv::Mat& photo = in.photo(v);
+    const align::ViewAlignment a = align::alignView(photo, in.labels(v), in.segmentParts(v),
+                                                    view.gbuffer.partId, view.gbuffer.coverage);
+    view.photoMask = a.photoMask;
+    view.warp = a.warp;
+    view.fitMask = a.fitMask;
+    view.lightMask = a.lightMask;
+    for (const align::RegionMatch& r : a.regions)
+      if (r.part < 0 && r.pixels > 0)
+        spdlog::debug("view {}: region {} ({} px) matched no part (best IoU {:.2f})", v, r.label,
+                      r.pixels, r.iou);
+    return true;
+  }
+  void save(const Context& ctx, int v, Archive& a) const override {
+    const ViewWork& view = ctx.views[v];
+    a.put<int32_t>(static_cast<int32_t>(view.photoMask.size()));
+    for (const auto& [part, mask] : view.photoMask) {
+      a.put<int32_t>(part);
+      a.putMat(mask);
+      a.put(view.warp.at(part));
+      a.putMat(view.fitMask.at(part));
+    }
+    a.putMat(view.lightMask);
+  }
+  bool load(Context& ctx, const Reads&, int v, Archive& a) override {
+    ViewWork& view = ctx.views[v];
+    const int n = a.get<int32_t>();
+    for (int i = 0; i < n; ++i) {
+      const int part = a.get<int32_t>();
+      view.photoMask[part] = a.getMat();
+      view.warp[part] = a.get<cv::Matx23d>();
+      view.fitMask[part] = a.getMat();
+    }
+    view.lightMask = a.getMat();
+    return true;
+  }
+};
+
+class ObserveStage : public Stage {
+ public:
+  ObserveStage() {
+    decl.name = "observe";
+    decl.unit = Unit::Part;
+    decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
+    decl.options = {"work_width"};
+    decl.after = {"parts", "geometry", "align"};
+    decl.writes = {"PartWork::view", "PartWork::pixels", "PartWork::median", "PartMode::Unseen"};
+    decl.cached = false;
+  }
+
+  bool compute(Context& ctx, const Reads& in, int u) override {
+    PartWork& p = ctx.parts[u];
+    std::vector<align::PartObservation> obs;
+    for (int v = 0; v < in.viewCount(); ++v) {
+      const ViewWork& view = ctx.views[v];
+      const auto it = view.fitMask.find(p.id);
+      if (it == view.fitMask.end()) continue;
+      const auto o = align::observePart(partPhoto(in.photo(v), view, p.id), it->second,
+                                        view.gbuffer.normalShading, view.gbuffer.position,
+                                        in.camera(v).position());
+      if (!o) continue;
+      obs.push_back(*o);
+      obs.back().view = v;
+    }
+    if (obs.empty()) {
+      if (p.mode == PartMode::Fit) {
+        p.mode = PartMode::Unseen;
+        p.skipped = "not seen in any view (or its photo region was not found)";
+      }
+      return true;
+    }
+    const align::ViewChoice choice = align::chooseView(obs);
+    for (const align::PartObservation& o : obs)
+      if (o.view == choice.view) {
+        p.view = o.view;
+        p.pixels = o.pixels;
+        p.median = Vec3f(o.medianColor[0], o.medianColor[1], o.medianColor[2]);
+      }
+    return true;
+  }
+  void save(const Context&, int, Archive&) const override {}
+  bool load(Context&, const Reads&, int, Archive&) override { return false; }
+};
+
+// The scale pin: neutral albedos = photo medians x pin, with a pixel-weighted mean luminance of
+// `mean_albedo` over the parts to be fitted (pipeline.hpp: the scale one photo cannot fix).
+class PinStage : public Stage {
+ public:
+  PinStage() {
+    decl.name = "pin";
+    decl.options = {"mean_albedo"};
+    decl.after = {"parts", "observe"};
+    decl.writes = {"Context::albedoPin"};
+    decl.cached = false;
+  }
+
+  bool compute(Context& ctx, const Reads& in, int) override {
+    double lum = 0, weight = 0;
+    for (const PartWork& p : ctx.parts)
+      if ((p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) && p.view >= 0) {
+        lum +=
+            (0.2126f * p.median.x() + 0.7152f * p.median.y() + 0.0722f * p.median.z()) * p.pixels;
+        weight += p.pixels;
+      }
+    ctx.albedoPin =
+        (lum > 1e-9 && weight > 0) ? static_cast<float>(in.meanAlbedo() / (lum / weight)) : 1.0f;
+    return true;
+  }
+  void save(const Context&, int, Archive&) const override {}
+  bool load(Context&, const Reads&, int, Archive&) override { return false; }
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> makeAlignStage() {
+  return std::make_unique<AlignStage>();
+}
+std::unique_ptr<Stage> makeObserveStage() {
+  return std::make_unique<ObserveStage>();
+}
+std::unique_ptr<Stage> makePinStage() {
+  return std::make_unique<PinStage>();
+}
+
+}  // namespace ps::pipeline

@@ -1,0 +1,132 @@
+// Stage `fit`: per part, in parallel, the graph's parameters, mean roughness and UV transform
+// (optim's fitPart) against the part's photo under incident0; homogeneous parts (and parts too
+// small for a texture) in closed form (optim's fitHomogeneous).
+#include <cstdlib>
+
+#include <spdlog/spdlog.h>
+
+#include "photoscene/core.hpp"
+#include "photoscene/io.hpp"
+#include "stages.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+// The fit's version: 2 = the spectral UV prior and `balanced` at 100 steps; 3 = the
+// full-resolution steps after the coarse phase at a quarter of the learning rate; 4 = `balanced`
+// at 40 steps, `fast` at 30.
+constexpr uint64_t kFitVersion = 4;
+
+class FitStage : public Stage {
+ public:
+  FitStage() {
+    decl.name = "fit";
+    decl.unit = Unit::Part;
+    decl.version = kFitVersion;
+    decl.scene = {"views[].camera", "views[].image", "views[].color_space", "options.seed"};
+    decl.options = {"preset", "max_fit_iterations", "library", "work_width"};
+    decl.after = {"geometry", "align", "observe", "select", "incident0"};
+    decl.writes = {
+        "PartWork: values, uv, roughness, roughnessScale, albedo, loss, seconds, iterations, "
+        "history"};
+    decl.parallel = true;
+  }
+
+  bool applies(const Context& ctx, int u) const override {
+    return ctx.parts[u].mode == PartMode::Fit || ctx.parts[u].mode == PartMode::Homogeneous;
+  }
+
+  bool compute(Context& ctx, const Reads& in, int u) override {
+    PartWork& p = ctx.parts[u];
+    const ViewWork& view = ctx.views[p.view];
+    Timer timer;
+    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id);
+    const cv::Mat& mask = view.fitMask.at(p.id);
+    const PartGeometry geo = preparePartGeometry(
+        view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
+    if (p.mode == PartMode::Homogeneous || geo.size() < 16) {
+      const HomogeneousFit f =
+          fitHomogeneous(geo, photo, roughnessGrid(in.budget().refineCandidates));
+      p.mode = PartMode::Homogeneous;
+      p.graph = p.category = "homogeneous";
+      p.albedo = f.albedo;
+      p.roughness = f.roughness;
+      p.loss = f.loss;
+      p.iterations = 0;
+      p.history.clear();
+    } else {
+      PartFitOptions o = in.fitOptions();
+      o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
+      if (const auto cap = in.maxFitIterations()) o.maxIterations = std::min(o.maxIterations, *cap);
+      // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
+      o.onProgress = [](const PartFitProgress&) { return !interruptRequested(); };
+      const TextureLossTarget target(photo, mask);
+      const PartFitResult r = fitPart(in.library().get(p.graph), geo, photo, target, o);
+      if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
+      if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
+        // photo over the fitted mask | the fit's render, for looking at what the fit did
+        cv::Mat masked = cv::Mat::zeros(photo.size(), CV_32FC3), side;
+        photo.copyTo(masked, mask);
+        cv::hconcat(masked, r.render, side);
+        fs::create_directories(debug);
+        io::writeImage(fs::path(debug) / ("fit-" + p.name + ".png"), side);
+      }
+      p.values = r.values;
+      p.uv = r.uv;
+      p.roughness = r.roughness;
+      p.roughnessScale = r.roughnessScale;
+      p.loss = r.loss;
+      p.iterations = r.iterations;
+      p.history = r.history;
+    }
+    p.seconds = timer.seconds();
+    spdlog::info("fit {}: {} ({}), loss {:.4f}, {} iterations, {:.1f} s", p.name, p.graph,
+                 p.category, p.loss, p.iterations, p.seconds);
+    return true;
+  }
+  void save(const Context& ctx, int u, Archive& a) const override {
+    const PartWork& p = ctx.parts[u];
+    a.putVector(p.values);
+    for (float f : {p.uv.rotation, p.uv.logScale, p.uv.offset.x(), p.uv.offset.y(), p.roughness,
+                    p.roughnessScale, p.albedo.x(), p.albedo.y(), p.albedo.z()})
+      a.put(f);
+    a.put(p.loss);
+    a.put(p.seconds);
+    a.put<int32_t>(p.iterations);
+    a.putVector(p.history);
+  }
+  bool load(Context& ctx, const Reads&, int u, Archive& a) override {
+    PartWork& p = ctx.parts[u];
+    p.values = a.getVector<float>();
+    p.uv.rotation = a.get<float>();
+    p.uv.logScale = a.get<float>();
+    p.uv.offset.x() = a.get<float>();
+    p.uv.offset.y() = a.get<float>();
+    p.roughness = a.get<float>();
+    p.roughnessScale = a.get<float>();
+    for (int k = 0; k < 3; ++k) p.albedo[k] = a.get<float>();
+    p.loss = a.get<double>();
+    p.seconds = a.get<double>();
+    p.iterations = a.get<int32_t>();
+    p.history = a.getVector<double>();
+    return true;
+  }
+  // a part fitted as homogeneous (too few pixels) has no graph values: the mode follows the
+  // result whether it was computed or loaded
+  void finish(Context& ctx, const Reads&) override {
+    for (PartWork& p : ctx.parts)
+      if ((p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) && p.values.empty()) {
+        p.mode = PartMode::Homogeneous;
+        p.graph = p.category = "homogeneous";
+      }
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> makeFitStage() {
+  return std::make_unique<FitStage>();
+}
+
+}  // namespace ps::pipeline

@@ -1,0 +1,116 @@
+// Stages `lights0` and `lights1`: the radiance of every emitter whose radiance is not given,
+// by non-negative least squares over one-light-at-a-time renders (lighting module); round 0
+// under the neutral materials, round 1 under the fitted ones over every view (per-view exposure
+// with several views). The result is written into the scene the later path tracers see.
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "photoscene/core.hpp"
+#include "photoscene/lighting.hpp"
+#include "stages.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+class LightsStage : public Stage {
+ public:
+  explicit LightsStage(int round) : round_(round) {
+    decl.name = round == 0 ? "lights0" : "lights1";
+    decl.unit = Unit::Global;
+    decl.scene = {"geometry",       "up",
+                  "lights",         "views[].camera",
+                  "views[].image",  "views[].color_space",
+                  "parts.{}.fixed", "options.seed"};
+    decl.options = {"preset", "work_width"};
+    decl.after = {"parts", "geometry", "align", "observe", "pin"};
+    if (round == 1) {
+      decl.options.push_back("library");
+      decl.after.insert(decl.after.end(), {"lights0", "select", "fit", "refine0"});
+    }
+    decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
+  }
+
+  bool compute(Context& ctx, const Reads& in, int) override {
+    const Scene& scene = in.litScene();
+    const std::vector<int>& freeLights = in.freeLights();
+    const bool hasEnv = scene.lights.environment.has_value();
+    intensity_.clear();
+    exposure_.assign(ctx.views.size(), 1.0);
+    if (freeLights.empty() && !hasEnv) return false;  // every emitter has a given radiance
+    const std::vector<PartMaterial> mats =
+        round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
+    // the fixed emitters shine at their radiance; the free ones are rendered one at a time
+    const PathTracer tracer(scene, mats);
+    std::vector<uint8_t> isFree(scene.lights.area.size(), 0);
+    for (int k : freeLights) isFree[k] = 1;
+    std::vector<lighting::ViewLightData> data;
+    for (int v = 0; v < in.viewCount(); ++v) {
+      checkInterrupted();
+      const cv::Mat& photo = in.photo(v);
+      RenderOptions ro;
+      ro.spp = in.budget().lightSpp;
+      ro.seed = in.seed() + 17 * v;
+      const std::vector<cv::Mat> perLight = tracer.renderPerLight(in.camera(v), ro);
+      lighting::ViewLightData d;
+      d.photo = photo.clone();
+      d.mask = ctx.views[v].lightMask.clone();
+      cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
+      for (size_t k = 0; k < scene.lights.area.size(); ++k) {
+        const auto& r = scene.lights.area[k].radiance;
+        if (isFree[k])
+          d.perLight.push_back(perLight[k]);
+        else if (r)
+          fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
+      }
+      if (hasEnv) d.perLight.push_back(perLight.back());
+      if (cv::countNonZero(fixed.reshape(1)) > 0) {
+        // photo - fixed emitters, with saturated pixels left out before the subtraction
+        cv::Mat sat;
+        cv::inRange(photo, cv::Scalar::all(0.99), cv::Scalar::all(1e30), sat);
+        d.mask.setTo(0, sat);
+        d.photo -= fixed;
+      }
+      data.push_back(std::move(d));
+    }
+    lighting::SolveOptions so;
+    so.perViewExposure = ctx.views.size() > 1;
+    const lighting::LightSolution s = lighting::solveLights(data, so);
+    spdlog::info("{}: {}", decl.name, s.summary());
+    intensity_ = s.intensity;
+    exposure_ = s.exposure;
+    return true;
+  }
+  void save(const Context&, int, Archive& a) const override {
+    std::vector<double> flat;
+    for (const Vec3d& x : intensity_) flat.insert(flat.end(), {x.x(), x.y(), x.z()});
+    a.putVector(flat);
+    a.putVector(exposure_);
+  }
+  bool load(Context&, const Reads&, int, Archive& a) override {
+    const std::vector<double> flat = a.getVector<double>();
+    exposure_ = a.getVector<double>();
+    intensity_.clear();
+    for (size_t i = 0; i + 2 < flat.size(); i += 3)
+      intensity_.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
+    return true;
+  }
+  // free area lights in order, then the environment
+  void finish(Context& ctx, const Reads&) override {
+    ctx.applyLights(intensity_);
+    ctx.exposure = exposure_;
+  }
+
+ private:
+  int round_;
+  std::vector<Vec3d> intensity_;
+  std::vector<double> exposure_;
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> makeLightsStage(int round) {
+  return std::make_unique<LightsStage>(round);
+}
+
+}  // namespace ps::pipeline

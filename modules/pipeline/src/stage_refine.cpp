@@ -1,0 +1,89 @@
+// Stages `refine0` and `refine1` (one row, `refine`): per part, in parallel, the second round of
+// the paper: homogeneous parts fitted again in closed form, textured parts get one albedo scale,
+// a per-channel offset and a roughness factor (optim's fitHomogeneous / refineTextured). Round 0
+// runs under the first lights, so that a part whose fit missed its mean does not bend the global
+// light solve; round 1 under the lights and grids of the fitted materials.
+#include "photoscene/core.hpp"
+#include "stages.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+class RefineStage : public Stage {
+ public:
+  explicit RefineStage(int round) {
+    decl.name = round == 0 ? "refine0" : "refine1";
+    decl.record = "refine";
+    decl.unit = Unit::Part;
+    decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
+    decl.options = {"preset", "library", "work_width"};
+    decl.after = {"geometry", "align", "observe",
+                  "select",   "fit",   round == 0 ? "incident0" : "incident1"};
+    decl.writes = {
+        "PartWork: albedoScale, albedoOffset, roughnessFactor, refineLoss; homogeneous albedo, "
+        "roughness"};
+    decl.parallel = true;
+  }
+
+  bool applies(const Context& ctx, int u) const override {
+    return ctx.parts[u].mode == PartMode::Fit || ctx.parts[u].mode == PartMode::Homogeneous;
+  }
+
+  bool compute(Context& ctx, const Reads& in, int u) override {
+    PartWork& p = ctx.parts[u];
+    const ViewWork& view = ctx.views[p.view];
+    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id);
+    const cv::Mat& mask = view.fitMask.at(p.id);
+    const PartGeometry geo = preparePartGeometry(
+        view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
+    const int candidates = in.budget().refineCandidates;
+    if (p.mode == PartMode::Homogeneous) {
+      // the albedo (per channel, closed form) and roughness again under the new lights
+      const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(candidates));
+      p.albedo = f.albedo;
+      p.roughness = f.roughness;
+      p.refineLoss = f.loss;
+    } else {
+      // only one albedo scale, its offset and the roughness factor (the maps keep their pattern)
+      MaterialGraph g = in.library().create(p.graph);
+      g.setValues(p.values);
+      const MaterialMaps maps =
+          g.evaluate(in.fitOptions().mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+      const TexturedRefine r =
+          refineTextured(geo, photo, mask, maps.albedo, maps.normal, p.uv, p.roughness, candidates);
+      p.albedoScale = r.albedoScale;
+      p.albedoOffset = r.albedoOffset;
+      p.roughnessFactor = r.roughnessFactor;
+      p.refineLoss = r.loss;
+    }
+    return true;
+  }
+  void save(const Context& ctx, int u, Archive& a) const override {
+    const PartWork& p = ctx.parts[u];
+    a.put(p.albedoScale);
+    for (int k = 0; k < 3; ++k) a.put(p.albedoOffset[k]);
+    a.put(p.roughnessFactor);
+    for (int k = 0; k < 3; ++k) a.put(p.albedo[k]);
+    a.put(p.roughness);
+    a.put(p.refineLoss);
+  }
+  bool load(Context& ctx, const Reads&, int u, Archive& a) override {
+    PartWork& p = ctx.parts[u];
+    p.albedoScale = a.get<float>();
+    for (int k = 0; k < 3; ++k) p.albedoOffset[k] = a.get<float>();
+    p.roughnessFactor = a.get<float>();
+    for (int k = 0; k < 3; ++k) p.albedo[k] = a.get<float>();
+    p.roughness = a.get<float>();
+    p.refineLoss = a.get<double>();
+    return true;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> makeRefineStage(int round) {
+  return std::make_unique<RefineStage>(round);
+}
+
+}  // namespace ps::pipeline

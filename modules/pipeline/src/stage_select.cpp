@@ -1,0 +1,89 @@
+// Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), homogeneous
+// below the small-part threshold, else the kNN vote over the exemplar bank (select module).
+#include <spdlog/spdlog.h>
+
+#include "photoscene/select.hpp"
+#include "stages.hpp"
+
+namespace ps::pipeline {
+
+namespace {
+
+class SelectStage : public Stage {
+ public:
+  SelectStage() {
+    decl.name = "select";
+    decl.unit = Unit::Part;
+    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space"};
+    decl.options = {"library", "work_width"};
+    decl.after = {"parts", "geometry", "align", "observe"};
+    decl.writes = {"PartWork::graph", "PartWork::category", "PartWork::runnersUp",
+                   "PartMode::Homogeneous"};
+  }
+
+  bool applies(const Context& ctx, int u) const override {
+    return ctx.parts[u].mode == PartMode::Fit;
+  }
+
+  bool compute(Context& ctx, const Reads& in, int u) override {
+    PartWork& p = ctx.parts[u];
+    const ViewWork& view = ctx.views[p.view];
+    const Camera& camera = in.camera(p.view);
+    p.runnersUp.clear();
+    if (const auto& forced = in.partGraph(u)) {
+      p.graph = *forced;
+    } else if (cv::countNonZero(view.photoMask.at(p.id)) <
+               homogeneousThreshold(camera.width(), camera.height())) {
+      p.graph = "homogeneous";
+    } else {
+      if (!bank_) {
+        bool cached = false;
+        bank_ = std::make_unique<ExemplarBank>(
+            ExemplarBank::loadOrBuild(in.library(), {}, in.bankCache(), &cached));
+        spdlog::info("exemplar bank: {} exemplars {}", bank_->rows(), cached ? "loaded" : "built");
+      }
+      // the part's photo in the render frame, where the G-buffer UVs are: selectForPart unwarps
+      // it into texture space and removes smooth shading before the kNN vote
+      const cv::Mat& photo = in.photo(p.view);
+      const cv::Mat& fit = view.fitMask.at(p.id);
+      const GraphChoice c =
+          cv::countNonZero(fit) > 0
+              ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv)
+              : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat());
+      p.graph = c.graph;
+      for (size_t i = 1; i < c.votes.size() && i < 4; ++i) p.runnersUp.push_back(c.votes[i].graph);
+    }
+    p.category = in.library().get(p.graph).category();
+    if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
+    return true;
+  }
+  void save(const Context& ctx, int u, Archive& a) const override {
+    const PartWork& p = ctx.parts[u];
+    a.putString(p.graph);
+    a.putString(p.category);
+    a.put<int32_t>(static_cast<int32_t>(p.runnersUp.size()));
+    for (const std::string& r : p.runnersUp) a.putString(r);
+  }
+  bool load(Context& ctx, const Reads&, int u, Archive& a) override {
+    PartWork& p = ctx.parts[u];
+    p.graph = a.getString();
+    p.category = a.getString();
+    const int n = a.get<int32_t>();
+    p.runnersUp.clear();
+    for (int i = 0; i < n; ++i) p.runnersUp.push_back(a.getString());
+    if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
+    return true;
+  }
+  void finish(Context&, const Reads&) override { bank_.reset(); }  // not needed after
+
+ private:
+  std::unique_ptr<ExemplarBank> bank_;  ///< built or loaded for the first part that needs it
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> makeSelectStage() {
+  return std::make_unique<SelectStage>();
+}
+
+}  // namespace ps::pipeline
