@@ -297,6 +297,48 @@ TEST(Features_TexturePs, stress_masks_and_images_stay_finite) {
   EXPECT_THROW(computeTexturePsStatistics(tex, full, {}, bad), Exception);
 }
 
+// The key's pooled joint statistics: appended only with psWeight > 0, invariant to a per-channel
+// light scale and (exactly, on a square grid) to a 90-degree rotation, and they separate two
+// gratings whose marginal statistics are close: a sine and square bars of one period.
+TEST(Features_TexturePs, key_entries_invariant_and_telling) {
+  TextureKeyOptions plain, withPs;
+  withPs.psWeight = 1.0f;
+  EXPECT_EQ(keyLength(withPs), keyLength(plain) + keyPsLength(withPs.descriptor));
+  EXPECT_EQ(keyPsLength(withPs.descriptor), 46);
+  const cv::Size size(96, 96);
+  const cv::Mat mask = diskMask(size, {47, 47}, 40);  // symmetric under the rotation below
+  const cv::Mat img = checker(size, 7) + noise(size, 1.0, 3) * 0.3;
+  const std::vector<float> k0 = computeTextureKey(img, mask, withPs);
+  ASSERT_EQ(static_cast<int>(k0.size()), keyLength(withPs));
+  for (float v : k0) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_EQ(computeTextureKey(img, mask, plain),
+            std::vector<float>(k0.begin(), k0.begin() + keyLength(plain)));
+  cv::Mat scaled = img.clone();
+  scaled.forEach<cv::Vec3f>(
+      [](cv::Vec3f& p, const int*) { p = cv::Vec3f(2.5f * p[0], 0.4f * p[1], 1.3f * p[2]); });
+  EXPECT_LT(descriptorDistance(k0, computeTextureKey(scaled, mask, withPs)), 1e-3);
+  cv::Mat rotated, rotatedMask;
+  cv::rotate(img, rotated, cv::ROTATE_90_CLOCKWISE);
+  cv::rotate(mask, rotatedMask, cv::ROTATE_90_CLOCKWISE);
+  const std::vector<float> kr = computeTextureKey(rotated, rotatedMask, withPs);
+  const int n0 = keyLength(plain);
+  double d = 0;
+  for (int i = n0; i < keyLength(withPs); ++i) d += (kr[i] - k0[i]) * (kr[i] - k0[i]);
+  EXPECT_LT(std::sqrt(d), 0.05) << "joint entries under a 90-degree rotation";
+  cv::Mat bars(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x)
+      bars.at<cv::Vec3f>(y, x) = cv::Vec3f::all(((x / 5) & 1) ? 0.6f : 0.2f);
+  const std::vector<float> ks = computeTextureKey(stripes(size, 10, 0), mask, withPs);
+  const std::vector<float> kb = computeTextureKey(bars, mask, withPs);
+  double dPlain = 0, dPs = 0;
+  for (int i = 0; i < keyLength(withPs); ++i)
+    (i < n0 ? dPlain : dPs) += (ks[i] - kb[i]) * (ks[i] - kb[i]);
+  std::printf("[   info   ] sine vs square bars: key distance %.3f, joint entries %.3f\n",
+              std::sqrt(dPlain), std::sqrt(dPs));
+  EXPECT_GT(std::sqrt(dPs), 0.1);
+}
+
 // The placement term: 0 for the same pattern in the same place, rising as a checker is shifted
 // by up to half its period, blind to brightness and contrast; its gradient is exact.
 TEST(Features_TexturePlacement, sees_the_offset_and_nothing_else) {
