@@ -220,7 +220,9 @@ TEST(Optim_PartFit, new_loss_options_are_validated) {
   std::string err;
   PartFitOptions o = PartFitOptions::preset("balanced");
   EXPECT_TRUE(o.IsValid(&err)) << err;
-  EXPECT_EQ(o.placementWeight, 0.0f);  // off unless measured to help (modules/optim/README.md)
+  EXPECT_GT(o.placementWeight, 0.0f);  // on in balanced by measurement (modules/optim/README.md)
+  EXPECT_EQ(PartFitOptions::preset("fast").placementWeight, 0.0f);   // not measured there
+  EXPECT_EQ(PartFitOptions::preset("paper").placementWeight, 0.0f);  // the paper's loss
   o.placementWeight = -1.0f;
   EXPECT_FALSE(o.IsValid(&err));
   o = PartFitOptions::preset("balanced");

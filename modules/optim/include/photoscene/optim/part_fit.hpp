@@ -9,7 +9,7 @@
 //            optionally with the joint statistics of features/texture_ps.hpp, `ps*` below)
 //   L_place = ps::placementLoss (features/texture_placement.hpp: 1 - the correlation of the
 //            low-passed luminances of render and photo over the mask; Eq. 9's pixel term after the
-//            warp: the caller's photo is the aligned one). Off by default (placementWeight 0).
+//            warp: the caller's photo is the aligned one). On in "balanced" (0.1), off elsewhere.
 //
 // The roughness output of the graph is replaced by one scalar while fitting (initialised to the
 // mean of the graph's roughness map); the result says how to rescale the full map to it.
@@ -65,7 +65,7 @@ struct PartFitOptions {
   float statWeight = 0.1f;         ///< a
   float textureWeight = 1.0f;      ///< b
   /// Weight of the placement term (0 = off): where the pattern lies (UV offset and rotation of
-  /// planks, grout), which the texture statistics cannot see.
+  /// planks, grout), which the texture statistics cannot see. "balanced": 0.1 (measured).
   float placementWeight = 0.0f;
   /// Its low-pass (pixels at full resolution; halved per coarse level, at least 0.5).
   float placementSigma = 2.0f;
