@@ -63,13 +63,22 @@ constexpr double kMinPairShare = 0.05;
 // sum_x a(x) b(x + d) over the overlap (CV_64F maps of one size).
 double lagSum(const cv::Mat& a, const cv::Mat& b, int dx, int dy) {
   const int H = a.rows, W = a.cols;
-  double s = 0.0;
+  // four partial sums: the compiler may not reorder one floating-point sum into vector lanes
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  const int x0 = std::max(0, -dx), x1 = std::min(W, W - dx);
   for (int y = std::max(0, -dy); y < std::min(H, H - dy); ++y) {
     const double* pa = a.ptr<double>(y);
-    const double* pb = b.ptr<double>(y + dy);
-    for (int x = std::max(0, -dx); x < std::min(W, W - dx); ++x) s += pa[x] * pb[x + dx];
+    const double* pb = b.ptr<double>(y + dy) + dx;
+    int x = x0;
+    for (; x + 3 < x1; x += 4) {
+      s0 += pa[x] * pb[x];
+      s1 += pa[x + 1] * pb[x + 1];
+      s2 += pa[x + 2] * pb[x + 2];
+      s3 += pa[x + 3] * pb[x + 3];
+    }
+    for (; x < x1; ++x) s0 += pa[x] * pb[x];
   }
-  return s;
+  return (s0 + s1) + (s2 + s3);
 }
 
 // Adjoint of q -> g * sum_x q(x) q(x + d): gq(x) += g q(x + d), gq(x + d) += g q(x).
