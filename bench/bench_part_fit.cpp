@@ -26,7 +26,9 @@
 // resolution), and so is the truth (its own roughness map). "to truth" is the texture-feature
 // distance between the two noise-free renders; "yardstick" the distance from the fit's render to
 // the photo (what the fit minimises, photo noise included: a fit can go below the truth's own value
-// there by fitting the noise); "mean albedo err" compares the graphs' mean albedo at 256.
+// there by fitting the noise); "mean albedo err" compares the graphs' mean albedo at 256;
+// "placement to truth" is ps::placementLoss (sigma 2) between the two noise-free renders: where the
+// pattern lies (UV offset, rotation of seams and grout), which the texture distance cannot see.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
