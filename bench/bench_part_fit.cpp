@@ -7,7 +7,8 @@
 //   wood_planks,tile_checker)]
 //                     [--iters 30,60,120 (budgets; 0 = the preset's own; default 0)]
 //                     [--lights 12,30] [--size 160x120] [--threads 1 (0 = all)]
-//                     [--set "key=value;..." (PartFitOptions fields after the preset)]
+//                     [--set "key=value;..." (PartFitOptions fields after the preset, e.g.
+//                     placementWeight, psAutoLowpass)]
 //                     [--start-truth (start from the true UV transform)]
 //                     [--renders DIR (writes <graph>_<light>_photo.png and
 //                     <graph>_<light>_<preset>_<budget>.png)]
@@ -25,7 +26,9 @@
 // resolution), and so is the truth (its own roughness map). "to truth" is the texture-feature
 // distance between the two noise-free renders; "yardstick" the distance from the fit's render to
 // the photo (what the fit minimises, photo noise included: a fit can go below the truth's own value
-// there by fitting the noise); "mean albedo err" compares the graphs' mean albedo at 256.
+// there by fitting the noise); "mean albedo err" compares the graphs' mean albedo at 256;
+// "placement to truth" is ps::placementLoss (sigma 2) between the two noise-free renders: where the
+// pattern lies (UV offset, rotation of seams and grout), which the texture distance cannot see.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +42,7 @@
 
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/timer.hpp"
+#include "photoscene/features/texture_placement.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/io/image_io.hpp"
 #include "photoscene/optim.hpp"
@@ -63,6 +67,7 @@ struct Row {
   int budget = 0;
   double seconds = 0, cpu = 0, texStart = 0, texEnd = 0, atTruth = 0, albedoErr = 0, rot = 0, rot90 = 0, scale = 0;
   double yardstick = 0, toTruth = 0;
+  double placement = 0;  // 1 - correlation of the low-passed luminances of fit and truth renders
   int iterations = 0, candidates = 0;
 };
 
@@ -189,6 +194,14 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
     else if (k == "plateauWindow") o.plateau.window = i;
     else if (k == "plateauMinIterations") o.plateau.minIterations = i;
     else if (k == "plateauRel") o.plateau.minRelativeImprovement = v;
+    else if (k == "placementWeight") o.placementWeight = static_cast<float>(v);
+    else if (k == "placementSigma") o.placementSigma = static_cast<float>(v);
+    else if (k == "placementOffsets") o.placementOffsets = i;
+    else if (k == "psAutoLowpass") o.psAutoLowpass = static_cast<float>(v);
+    else if (k == "psAutoMagnitude") o.psAutoMagnitude = static_cast<float>(v);
+    else if (k == "psCrossOrientation") o.psCrossOrientation = static_cast<float>(v);
+    else if (k == "psCrossScale") o.psCrossScale = static_cast<float>(v);
+    else if (k == "psColor") o.psColor = static_cast<float>(v);
     else {
       std::fprintf(stderr, "--set: unknown option %s\n", k.c_str());
       std::exit(2);
@@ -251,8 +264,8 @@ int main(int argc, char** argv) {
   std::printf(
       "| graph | light | preset | budget | seconds | cpu | search s | iterations (coarse) | "
       "candidates | texture loss start -> end | at truth | yardstick | to truth | mean albedo err "
-      "| rot err (deg, mod 180) | mod 90 | scale ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| rot err (deg, mod 180) | mod 90 | scale ratio | placement to truth |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& gname : graphs)
     for (float light : lights) {
       MaterialGraph truth = lib.create(gname);
@@ -316,6 +329,9 @@ int main(int argc, char** argv) {
       };
       const cv::Mat truthRender = renderAt(tm, tm.roughness, uvTrue);
       const TextureLossTarget truthTarget(truthRender, mask);
+      // where the pattern lies against the truth (UV offset and rotation of seams and grout): the
+      // placement term between the noise-free renders, sigma 2 pixels
+      const PlacementLossTarget truthPlacement(truthRender, mask, PlacementLossOptions{2.0});
       const double truthYardstick = textureDistance(target, truthRender);
       // one row's errors from a fitted state (values, transform, mean roughness)
       auto measure = [&](Row& row, const std::vector<float>& values, const UvParams& uv,
@@ -333,6 +349,7 @@ int main(int argc, char** argv) {
         const cv::Mat render = renderAt(fm, rough, uv);
         row.yardstick = textureDistance(target, render);
         row.toTruth = textureDistance(truthTarget, render);
+        row.placement = placementLoss(truthPlacement, render);
         const cv::Scalar mf = cv::mean(fm.albedo), mt = cv::mean(tm.albedo);
         row.albedoErr =
             std::max({std::abs(mf[0] - mt[0]), std::abs(mf[1] - mt[1]), std::abs(mf[2] - mt[2])});
@@ -352,10 +369,11 @@ int main(int argc, char** argv) {
       auto print = [&](const Row& row, double searchSeconds, int coarse) {
         std::printf(
             "| %s | %.0f | %s | %d | %.2f | %.2f | %.2f | %d (%d) | %d | %.4f -> %.4f | %.4f | "
-            "%.4f | %.4f | %.3f | %.1f | %.1f | %.3f |\n",
+            "%.4f | %.4f | %.3f | %.1f | %.1f | %.3f | %.3f |\n",
             row.graph.c_str(), row.light, row.preset.c_str(), row.budget, row.seconds, row.cpu,
             searchSeconds, row.iterations, coarse, row.candidates, row.texStart, row.texEnd,
-            row.atTruth, row.yardstick, row.toTruth, row.albedoErr, row.rot, row.rot90, row.scale);
+            row.atTruth, row.yardstick, row.toTruth, row.albedoErr, row.rot, row.rot90, row.scale,
+            row.placement);
         std::fflush(stdout);
       };
       for (const std::string& preset : presets)
@@ -425,13 +443,14 @@ int main(int argc, char** argv) {
     if (FILE* f = std::fopen(csvPath.c_str(), "w")) {
       std::fprintf(f,
                    "graph,light,preset,budget,seconds,cpu,iterations,candidates,tex_start,tex_end,"
-                   "at_truth,albedo_err,rot,rot90,scale,yardstick,to_truth\n");
+                   "at_truth,albedo_err,rot,rot90,scale,yardstick,to_truth,placement\n");
       for (const Row& r : rows)
         std::fprintf(f,
-                     "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f,%.5f,%.5f\n",
+                     "%s,%g,%s,%d,%.3f,%.3f,%d,%d,%.5f,%.5f,%.5f,%.4f,%.2f,%.2f,%.4f,%.5f,%.5f,"
+                     "%.4f\n",
                      r.graph.c_str(), r.light, r.preset.c_str(), r.budget, r.seconds, r.cpu,
                      r.iterations, r.candidates, r.texStart, r.texEnd, r.atTruth, r.albedoErr,
-                     r.rot, r.rot90, r.scale, r.yardstick, r.toTruth);
+                     r.rot, r.rot90, r.scale, r.yardstick, r.toTruth, r.placement);
       std::fclose(f);
     }
   }

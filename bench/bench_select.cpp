@@ -5,7 +5,7 @@
 //   ps_bench_select [--draws N] [--scales a,b,c] [--size S] [--map M] [--k K] [--observed N]
 //                   [--shading S] [--category-first 0|1] [--projection 0|1] [--linear-only 1]
 //                   [--seed S (held-out draws; the test's: 2024)] [--observed-protocol 0|1]
-//                   [--structure W] [--sweep-k 1 (k, distinct draws, category-first vote)]
+//                   [--structure W] [--ps W (the texture key's joint statistics, features)] [--sweep-k 1 (k, distinct draws, category-first vote)]
 //                   [--distinct 0|1 (1: the k nearest draws vote; default 0: the k nearest rows)]
 //                   [--cache DIR] [--profile-only 1]
 #include <cstdio>
@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
       options.statisticsWeight = std::stof(v);
     else if (a == "--structure")
       options.structureWeight = std::stof(v);
+    else if (a == "--ps")
+      options.key.psWeight = std::stof(v);
     else if (a == "--cache")
       cache = v;
     else if (a == "--category-first")

@@ -56,6 +56,56 @@ void BM_TextureLossForwardBackward(benchmark::State& state) {
 }
 BENCHMARK(BM_TextureLossForwardBackward)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
+// The texture loss with every joint statistic of texture_ps.hpp weighted (their extra cost).
+void BM_TextureLossForwardBackwardPs(benchmark::State& state) {
+  std::unique_ptr<ps::ThreadLimit> limit;
+  threads(state, limit);
+  ps::TextureLossOptions o;
+  o.weights.psAutoLowpass = o.weights.psAutoMagnitude = o.weights.psCrossOrientation = 1.0f;
+  o.weights.psCrossScale = o.weights.psColor = 1.0f;
+  ps::TextureLossTarget target(texture(1, 1.0), partMask(), o);
+  ps::TextureLossParams p;
+  p.target = &target;
+  p.render = texture(2, 2.0);
+  cv::Mat grad;
+  for (auto _ : state) {
+    ps::textureLossForward(p);
+    ps::textureLossBackward(p, 1.0f, grad);
+    benchmark::DoNotOptimize(grad.data);
+  }
+}
+BENCHMARK(BM_TextureLossForwardBackwardPs)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// The joint statistics alone (pyramid included), as computeTexturePsStatistics.
+void BM_TexturePsStatistics(benchmark::State& state) {
+  std::unique_ptr<ps::ThreadLimit> limit;
+  threads(state, limit);
+  const cv::Mat photo = texture(1, 1.0), mask = partMask();
+  for (auto _ : state) benchmark::DoNotOptimize(ps::computeTexturePsStatistics(photo, mask));
+}
+BENCHMARK(BM_TexturePsStatistics)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The placement term, forward + backward.
+void BM_PlacementLoss(benchmark::State& state) {
+  std::unique_ptr<ps::ThreadLimit> limit;
+  threads(state, limit);
+  const ps::PlacementLossTarget target(texture(1, 1.0), partMask());
+  const cv::Mat render = texture(2, 2.0);
+  cv::Mat grad;
+  for (auto _ : state) benchmark::DoNotOptimize(ps::placementLoss(target, render, &grad));
+}
+BENCHMARK(BM_PlacementLoss)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_TextureKeyPs(benchmark::State& state) {
+  std::unique_ptr<ps::ThreadLimit> limit;
+  threads(state, limit);
+  const cv::Mat photo = texture(1, 1.0), mask = partMask();
+  ps::TextureKeyOptions o;
+  o.psWeight = 1.0f;
+  for (auto _ : state) benchmark::DoNotOptimize(ps::computeTextureKey(photo, mask, o));
+}
+BENCHMARK(BM_TextureKeyPs)->Arg(1)->Unit(benchmark::kMillisecond);
+
 void BM_TextureLossTarget(benchmark::State& state) {
   std::unique_ptr<ps::ThreadLimit> limit;
   threads(state, limit);

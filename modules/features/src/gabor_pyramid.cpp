@@ -26,6 +26,8 @@ void blur5(const cv::Mat& src, cv::Mat& dst, const GaborBank& bank) {
   cv::sepFilter2D(src, dst, CV_32F, bank.blurH, bank.blurV, cv::Point(-1, -1), 0.0, kBorder);
 }
 
+}  // namespace
+
 cv::Mat downsample(const cv::Mat& src, const GaborBank& bank) {
   cv::Mat blurred;
   blur5(src, blurred, bank);
@@ -50,6 +52,8 @@ cv::Mat downsampleAdjoint(const cv::Mat& g, cv::Size size, const GaborBank& bank
   blur5(up, out, bank);
   return out;
 }
+
+namespace {
 
 double sumOf(const cv::Mat& m) {
   return cv::sum(m)[0];
@@ -307,7 +311,8 @@ void forwardDescriptor(const cv::Mat& image, const MaskPyramid& p, const GaborBa
 
 void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
                         const TextureDescriptorOptions& o, const ForwardState& st,
-                        const std::vector<double>& g, cv::Mat& gradCrop) {
+                        const std::vector<double>& g, cv::Mat& gradCrop,
+                        const ExtraGradients* extra) {
   const int S = o.numScales, K = o.numOrientations;
   const int W = p.crop.width, H = p.crop.height;
   PS_CheckEQ(static_cast<int>(g.size()), descriptorLength(o), "gradient length");
@@ -321,7 +326,11 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
     const int base = bandIndex(o, s, k);
     const double g0 = g[base + kBandMeanRe], g1 = g[base + kBandStdRe];
     const double g2 = g[base + kBandMeanMag], g3 = g[base + kBandStdMag];
-    if (g0 == 0.0 && g1 == 0.0 && g2 == 0.0 && g3 == 0.0) return;
+    const cv::Mat* extraMag =
+        extra && static_cast<int>(extra->mag.size()) > band && !extra->mag[band].empty()
+            ? &extra->mag[band]
+            : nullptr;
+    if (g0 == 0.0 && g1 == 0.0 && g2 == 0.0 && g3 == 0.0 && !extraMag) return;
     const double meanA = st.values[base + kBandMeanRe], stdA = st.values[base + kBandStdRe];
     const double meanM = st.values[base + kBandMeanMag], stdM = st.values[base + kBandStdMag];
     const cv::Mat& a = st.a[band];
@@ -336,13 +345,15 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
       const float* pw = w.ptr<float>(y);
       float* qa = ga.ptr<float>(y);
       float* qb = gb.ptr<float>(y);
+      const float* pe = extraMag ? extraMag->ptr<float>(y) : nullptr;
       for (int x = 0; x < a.cols; ++x) {
         const double wv = pw[x];
-        if (wv == 0.0) {
+        const double ge = pe ? pe[x] : 0.0;
+        if (wv == 0.0 && ge == 0.0) {
           qa[x] = qb[x] = 0.0f;
           continue;
         }
-        const double gm = wv * (g2 + g3 * (pm[x] - meanM) / stdM);
+        const double gm = wv * (g2 + g3 * (pm[x] - meanM) / stdM) + ge;
         const double inv = 1.0 / pm[x];
         qa[x] = static_cast<float>(wv * (g0 + g1 * (pa[x] - meanA) / stdA) + gm * pa[x] * inv);
         qb[x] = static_cast<float>(gm * pb[x] * inv);
@@ -384,6 +395,7 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
     for (int k = 0; k < K; ++k) {
       if (!gz[s * K + k].empty()) acc += gz[s * K + k];
     }
+    if (extra && static_cast<int>(extra->z.size()) > s && !extra->z[s].empty()) acc += extra->z[s];
     carry = acc;
   }
   // carry = d out / d z0; z0 = M (L - mu), mu = sum(M L) / n.
@@ -417,6 +429,7 @@ void backwardDescriptor(const MaskPyramid& p, const GaborBank& bank,
         out[x][ch] = static_cast<float>(lum[ch] * gL + gMean[ch] +
                                         gStdOverStd[ch] * (c[x][ch] - st.values[ch]));
       }
+      if (extra && !extra->rgb.empty()) out[x] += extra->rgb.at<cv::Vec3f>(y, x);
     }
   }
 }

@@ -50,11 +50,26 @@ void forwardDescriptor(const cv::Mat& image, const MaskPyramid& pyramid, const G
                        const TextureDescriptorOptions& options, ForwardState& state,
                        bool keepForBackward);
 
-/// Given d out / d values (descriptor length; entries may be 0), writes d out / d crop pixels
-/// (CV_32FC3, crop size) into gradCrop.
+/// Gradients with respect to intermediates of the forward pass that other statistics (texture_ps)
+/// add to the descriptor's: per band d out / d mag (level size; empty = none), per level
+/// d out / d z_s (empty = none), and d out / d crop pixels (CV_32FC3 crop size; empty = none).
+struct ExtraGradients {
+  std::vector<cv::Mat> mag;
+  std::vector<cv::Mat> z;
+  cv::Mat rgb;
+};
+
+/// Given d out / d values (descriptor length; entries may be 0) and optionally the extra
+/// gradients, writes d out / d crop pixels (CV_32FC3, crop size) into gradCrop.
 void backwardDescriptor(const MaskPyramid& pyramid, const GaborBank& bank,
                         const TextureDescriptorOptions& options, const ForwardState& state,
-                        const std::vector<double>& gradValues, cv::Mat& gradCrop);
+                        const std::vector<double>& gradValues, cv::Mat& gradCrop,
+                        const ExtraGradients* extra = nullptr);
+
+/// The pyramid's downsampling (blur, even samples) and its adjoint (zero insertion to `size`,
+/// blur): expand(m) = 4 * downsampleAdjoint(m, size).
+cv::Mat downsample(const cv::Mat& src, const GaborBank& bank);
+cv::Mat downsampleAdjoint(const cv::Mat& g, cv::Size size, const GaborBank& bank);
 
 /// Fills a TextureDescriptor from the state.
 TextureDescriptor toDescriptor(const ForwardState& state, const MaskPyramid& pyramid,

@@ -1,6 +1,7 @@
 #include "photoscene/features/texture_descriptor.hpp"
 
 #include "gabor_pyramid.hpp"
+#include "ps_statistics.hpp"
 #include "photoscene/core/error.hpp"
 
 #include <algorithm>
@@ -35,7 +36,7 @@ bool TextureDescriptorOptions::IsValid(std::string* error) const {
 bool TextureKeyOptions::IsValid(std::string* error) const {
   if (!descriptor.IsValid(error)) return false;
   std::string msg;
-  if (!(colorWeight >= 0 && contrastWeight >= 0 && anisotropyWeight >= 0))
+  if (!(colorWeight >= 0 && contrastWeight >= 0 && anisotropyWeight >= 0 && psWeight >= 0))
     msg = "key group weights must be >= 0";
   else if (!(logFloor > 0.0f))
     msg = "logFloor must be > 0";
@@ -51,10 +52,88 @@ int bandIndex(const TextureDescriptorOptions& o, int scale, int orientation) {
   return kTextureColorEntries + 4 * (scale * o.numOrientations + orientation);
 }
 
+int keyPsLength(const TextureDescriptorOptions& o) {
+  const int S = o.numScales, K = o.numOrientations;
+  return 4 * S + 2 * S + S * (K / 2) + (S - 1) * (K / 2 + 1) + 5;
+}
+
 int keyLength(const TextureKeyOptions& o) {
   const int S = o.descriptor.numScales, K = o.descriptor.numOrientations;
-  return 6 + 3 * S + S * (K / 2);
+  return 6 + 3 * S + S * (K / 2) + (o.psWeight > 0 ? keyPsLength(o.descriptor) : 0);
 }
+
+namespace {
+
+// The pooled joint statistics of the key (computeTextureKey's documentation), unweighted, in
+// groups: sizes written to groupSizes.
+std::vector<double> pooledPs(const std::vector<double>& v, const TextureDescriptorOptions& o,
+                             const TexturePsOptions& po, double logFloor,
+                             std::vector<int>& groupSizes) {
+  const int S = o.numScales, K = o.numOrientations;
+  const TexturePsLayout L = texturePsLayout(o, po);
+  std::vector<double> out;
+  auto rings = [&](int offset, int radius, const std::vector<double>& edges) {
+    const std::vector<cv::Point> lags = psLags(radius);
+    std::vector<double> sum(edges.size() - 1, 0.0), n(edges.size() - 1, 0.0);
+    for (size_t i = 0; i < lags.size(); ++i) {
+      const double r = std::hypot(lags[i].x, lags[i].y);
+      for (size_t b = 0; b + 1 < edges.size(); ++b)
+        if (r >= edges[b] && r < edges[b + 1]) sum[b] += v[offset + i], n[b] += 1;
+    }
+    for (size_t b = 0; b < sum.size(); ++b) sum[b] = n[b] > 0 ? sum[b] / n[b] : 0.0;
+    return sum;
+  };
+  const std::vector<double> lowEdges = {1.0, 1.6, 2.4, 3.3, 4.3}, magEdges = {1.0, 1.6, 2.9};
+  const int nL = texturePsLagCount(po.lowpassRadius), nM = texturePsLagCount(po.magnitudeRadius);
+  for (int s = 0; s < S; ++s)
+    for (double r : rings(L.autoLowpass + s * nL, po.lowpassRadius, lowEdges)) out.push_back(r);
+  groupSizes.push_back(4 * S);
+  for (int s = 0; s < S; ++s) {
+    std::vector<double> acc(2, 0.0);
+    for (int k = 0; k < K; ++k) {
+      const std::vector<double> r =
+          rings(L.autoMagnitude + (s * K + k) * nM, po.magnitudeRadius, magEdges);
+      for (int b = 0; b < 2; ++b) acc[b] += r[b] / K;
+    }
+    out.insert(out.end(), acc.begin(), acc.end());
+  }
+  groupSizes.push_back(2 * S);
+  auto circularDistance = [&](int k, int l) {
+    const int d = std::abs(k - l) % K;
+    return std::min(d, K - d);
+  };
+  int idx = L.crossOrientation;
+  for (int s = 0; s < S; ++s) {
+    std::vector<double> sum(K / 2 + 1, 0.0), n(K / 2 + 1, 0.0);
+    for (int k = 0; k < K; ++k)
+      for (int l = k + 1; l < K; ++l) {
+        const int h = circularDistance(k, l);
+        sum[h] += v[idx++];
+        n[h] += 1;
+      }
+    for (int h = 1; h <= K / 2; ++h) out.push_back(n[h] > 0 ? sum[h] / n[h] : 0.0);
+  }
+  groupSizes.push_back(S * (K / 2));
+  for (int s = 0; s + 1 < S; ++s) {
+    std::vector<double> sum(K / 2 + 1, 0.0), n(K / 2 + 1, 0.0);
+    for (int k = 0; k < K; ++k)
+      for (int l = 0; l < K; ++l) {
+        const int h = circularDistance(k, l);
+        sum[h] += v[L.crossScale + (s * K + k) * K + l];
+        n[h] += 1;
+      }
+    for (int h = 0; h <= K / 2; ++h) out.push_back(n[h] > 0 ? sum[h] / n[h] : 0.0);
+  }
+  groupSizes.push_back((S - 1) * (K / 2 + 1));
+  for (int t = 0; t < 3; ++t) out.push_back(v[L.color + 6 + t]);
+  const double sd3 = v[L.color + 5];
+  out.push_back(std::log((v[L.color + 3] + logFloor) / (sd3 + logFloor)));
+  out.push_back(std::log((v[L.color + 4] + logFloor) / (sd3 + logFloor)));
+  groupSizes.push_back(5);
+  return out;
+}
+
+}  // namespace
 
 static void checkOptions(const TextureDescriptorOptions& o) {
   std::string err;
@@ -118,7 +197,7 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
   }
   pyramid.crop = cv::Rect(0, 0, crop.width, crop.height);
   ForwardState st;
-  forwardDescriptor(normalized, pyramid, bank, o, st, false);
+  forwardDescriptor(normalized, pyramid, bank, o, st, options.psWeight > 0);
   const std::vector<double>& D = st.values;
 
   // Inter-channel correlations of the normalized region.
@@ -195,6 +274,18 @@ std::vector<float> computeTextureKey(const cv::Mat& image, const cv::Mat& mask,
     else
       w = options.anisotropyWeight / std::sqrt(std::max(1, nAniso));
     out[i] = static_cast<float>(w * key[i]);
+  }
+  if (options.psWeight > 0) {
+    const TexturePsOptions po;
+    const PsMask psMask = makePsMask(pyramid, o, po);
+    PsState ps;
+    forwardPs(st, pyramid, psMask, bank, o, po, ps);
+    std::vector<int> sizes;
+    const std::vector<double> pooled = pooledPs(ps.values, o, po, floor, sizes);
+    size_t i = 0;
+    for (int n : sizes)
+      for (int j = 0; j < n; ++j, ++i)
+        out.push_back(static_cast<float>(options.psWeight / std::sqrt(std::max(1, n)) * pooled[i]));
   }
   PS_CheckEQ(static_cast<int>(out.size()), keyLength(options), "key length");
   return out;

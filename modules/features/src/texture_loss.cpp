@@ -1,6 +1,7 @@
 #include "photoscene/features/texture_loss.hpp"
 
 #include "gabor_pyramid.hpp"
+#include "ps_statistics.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 
@@ -15,8 +16,10 @@ bool TextureLossOptions::IsValid(std::string* error) const {
   if (!descriptor.IsValid(error)) return false;
   std::string msg;
   const TextureLossWeights& w = weights;
+  if (!ps.IsValid(error)) return false;
   if (!(w.colorMean >= 0 && w.colorStd >= 0 && w.bandMeanRe >= 0 && w.bandStdRe >= 0 &&
-        w.bandMeanMag >= 0 && w.bandStdMag >= 0))
+        w.bandMeanMag >= 0 && w.bandStdMag >= 0 && w.psAutoLowpass >= 0 && w.psAutoMagnitude >= 0 &&
+        w.psCrossOrientation >= 0 && w.psCrossScale >= 0 && w.psColor >= 0))
     msg = "loss weights must be >= 0";
   else if (!w.scale.empty() && static_cast<int>(w.scale.size()) != descriptor.numScales)
     msg = "weights.scale must be empty or have numScales entries";
@@ -36,10 +39,17 @@ struct TextureLossTarget::Impl {
   std::vector<int> entryGroup;
   cv::Size size;
   double nu = 1.0;
+  // joint statistics (active when a ps weight is > 0)
+  bool psActive = false;
+  PsMask psMask;
+  std::vector<double> psTarget, psEntryWeight;
+  std::vector<int> psEntryGroup;
+  std::vector<float> psValues;
 };
 
 struct TextureLossWorkspace {
   ForwardState state;
+  PsState ps;
 };
 
 TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
@@ -54,8 +64,9 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
   const TextureDescriptorOptions& o = options.descriptor;
   m.bank = makeGaborBank(o);
   m.pyramid = makeMaskPyramid(mask, o, m.bank);
+  m.psActive = options.weights.anyPs();
   ForwardState st;
-  forwardDescriptor(photo, m.pyramid, m.bank, o, st, false);
+  forwardDescriptor(photo, m.pyramid, m.bank, o, st, m.psActive);
   m.targetValues = st.values;
   m.descriptor = toDescriptor(st, m.pyramid, o);
   if (options.normalizeByTarget) {
@@ -84,6 +95,30 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
       }
     }
   }
+  if (m.psActive) {
+    m.psMask = makePsMask(m.pyramid, o, options.ps);
+    PsState ps;
+    forwardPs(st, m.pyramid, m.psMask, m.bank, o, options.ps, ps);
+    m.psTarget = ps.values;
+    m.psValues.assign(ps.values.begin(), ps.values.end());
+    const TexturePsLayout L = texturePsLayout(o, options.ps);
+    m.psEntryWeight.assign(L.length, 0.0);
+    m.psEntryGroup.assign(L.length, 0);
+    const int bounds[6] = {L.autoLowpass, L.autoMagnitude, L.crossOrientation,
+                           L.crossScale,  L.color,         L.length};
+    const float gw[5] = {w.psAutoLowpass, w.psAutoMagnitude, w.psCrossOrientation, w.psCrossScale,
+                         w.psColor};
+    for (int grp = 0; grp < 5; ++grp) {
+      const int n = bounds[grp + 1] - bounds[grp];
+      for (int i = bounds[grp]; i < bounds[grp + 1]; ++i) {
+        // colour means and standard deviations are in linear units: divided by nu like the
+        // descriptor's; the correlations are unitless
+        const bool linear = grp == 4 && i < L.color + 6;
+        m.psEntryWeight[i] = n > 0 ? gw[grp] / n * (linear ? inv : 1.0) : 0.0;
+        m.psEntryGroup[i] = grp;
+      }
+    }
+  }
 }
 
 TextureLossTarget::~TextureLossTarget() = default;
@@ -105,6 +140,9 @@ cv::Rect TextureLossTarget::crop() const {
 double TextureLossTarget::normalizer() const {
   return impl_->nu;
 }
+const std::vector<float>& TextureLossTarget::psStatistics() const {
+  return impl_->psValues;
+}
 
 double textureLossForward(TextureLossParams& params) {
   PS_Check(params.target != nullptr, "TextureLossParams.target is null");
@@ -116,11 +154,24 @@ double textureLossForward(TextureLossParams& params) {
   forwardDescriptor(params.render, t.pyramid, t.bank, t.options.descriptor, st, true);
   double loss = 0.0;
   std::fill(std::begin(params.groupLoss), std::end(params.groupLoss), 0.0);
+  std::fill(std::begin(params.psGroupLoss), std::end(params.psGroupLoss), 0.0);
   for (size_t i = 0; i < st.values.size(); ++i) {
     const double d = st.values[i] - t.targetValues[i];
     const double c = t.entryWeight[i] * d * d;
     params.groupLoss[t.entryGroup[i]] += c;
     loss += c;
+  }
+  params.renderPs.clear();
+  if (t.psActive) {
+    PsState& ps = params.workspace->ps;
+    forwardPs(st, t.pyramid, t.psMask, t.bank, t.options.descriptor, t.options.ps, ps);
+    for (size_t i = 0; i < ps.values.size(); ++i) {
+      const double d = ps.values[i] - t.psTarget[i];
+      const double c = t.psEntryWeight[i] * d * d;
+      params.psGroupLoss[t.psEntryGroup[i]] += c;
+      loss += c;
+    }
+    params.renderPs.assign(ps.values.begin(), ps.values.end());
   }
   params.loss = loss;
   params.renderDescriptor = toDescriptor(st, t.pyramid, t.options.descriptor);
@@ -137,7 +188,17 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
   for (size_t i = 0; i < g.size(); ++i)
     g[i] = gradLoss * 2.0 * t.entryWeight[i] * (st.values[i] - t.targetValues[i]);
   cv::Mat gradCrop;
-  backwardDescriptor(t.pyramid, t.bank, t.options.descriptor, st, g, gradCrop);
+  if (t.psActive) {
+    const PsState& ps = params.workspace->ps;
+    std::vector<double> gp(ps.values.size());
+    for (size_t i = 0; i < gp.size(); ++i)
+      gp[i] = gradLoss * 2.0 * t.psEntryWeight[i] * (ps.values[i] - t.psTarget[i]);
+    ExtraGradients extra;
+    backwardPs(st, t.pyramid, t.psMask, t.bank, t.options.descriptor, t.options.ps, ps, gp, extra);
+    backwardDescriptor(t.pyramid, t.bank, t.options.descriptor, st, g, gradCrop, &extra);
+  } else {
+    backwardDescriptor(t.pyramid, t.bank, t.options.descriptor, st, g, gradCrop);
+  }
   const bool reuse = accumulate && gradRender.type() == CV_32FC3 && gradRender.size() == t.size;
   if (!reuse) {
     gradRender.create(t.size, CV_32FC3);

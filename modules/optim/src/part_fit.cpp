@@ -7,6 +7,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"
+#include "photoscene/features/texture_placement.hpp"
 
 namespace ps {
 
@@ -48,6 +49,10 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     o.searchKeep = 8;
     o.fineIterations = 20;
     o.plateau = PlateauOptions{20, 2e-3, 60};
+    // the placement term (modules/optim/README.md): wood_planks, tile_checker, brick_red x lights
+    // 12 and 30 at 160x120, against 0: placement to the truth 0.299 -> 0.046 (mean), texture
+    // distance to the truth 0.00105 -> 0.00077, mean albedo error 0.0100 -> 0.0115, CPU +35 %
+    o.placementWeight = 0.1f;
   } else if (name == "fast") {
     // 30 steps, 10 at full resolution: against the truth at 21k pixels a texture distance of
     // 0.0036 (80 steps gave 0.0064 on wood and the checker) in 69 % of balanced's time
@@ -78,8 +83,14 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (maxIterations < 0) return fail("maxIterations must be >= 0");
   if (mapSize < 4 || (mapSize & (mapSize - 1))) return fail("mapSize must be a power of two >= 4");
   if (!(learningRate > 0) || !(uvLearningRate >= 0)) return fail("learning rates must be positive");
-  if (!(statWeight >= 0) || !(textureWeight >= 0) || statWeight + textureWeight <= 0)
-    return fail("loss weights must be >= 0, not both 0");
+  if (!(statWeight >= 0) || !(textureWeight >= 0) || !(placementWeight >= 0) ||
+      statWeight + textureWeight + placementWeight <= 0)
+    return fail("loss weights must be >= 0, not all 0");
+  if (!(placementSigma >= 0.5f && placementSigma <= 32.0f)) return fail("placementSigma must be in [0.5, 32]");
+  if (placementOffsets < 0) return fail("placementOffsets must be >= 0");
+  if (!(psAutoLowpass >= 0) || !(psAutoMagnitude >= 0) || !(psCrossOrientation >= 0) || !(psCrossScale >= 0) ||
+      !(psColor >= 0))
+    return fail("the ps* texture weights must be >= 0");
   if (searchRotations < 1 || searchLogScales < 1 || searchOffsets < 1) return fail("search grids need >= 1 entry");
   if (!(spectrumScaleWindow >= 0)) return fail("spectrumScaleWindow must be >= 0");
   if (!(logScaleMax >= logScaleMin)) return fail("logScaleMax < logScaleMin");
@@ -149,7 +160,32 @@ struct Level {
   const TextureLossTarget* target = nullptr;
   std::unique_ptr<PartGeometry> ownGeo;
   std::unique_ptr<TextureLossTarget> ownTarget;
+  std::unique_ptr<PlacementLossTarget> placement;  // when placementWeight > 0
 };
+
+bool anyPs(const PartFitOptions& o) {
+  return o.psAutoLowpass > 0 || o.psAutoMagnitude > 0 || o.psCrossOrientation > 0 || o.psCrossScale > 0 ||
+         o.psColor > 0;
+}
+
+// The texture-loss options the fit uses: the caller's, with the fit's joint-statistics weights.
+TextureLossOptions fitTextureOptions(const TextureLossOptions& caller, const PartFitOptions& o) {
+  TextureLossOptions t = caller;
+  if (anyPs(o)) {
+    t.weights.psAutoLowpass = o.psAutoLowpass;
+    t.weights.psAutoMagnitude = o.psAutoMagnitude;
+    t.weights.psCrossOrientation = o.psCrossOrientation;
+    t.weights.psCrossScale = o.psCrossScale;
+    t.weights.psColor = o.psColor;
+  }
+  return t;
+}
+
+cv::Mat maskOf(const PartGeometry& geo) {
+  cv::Mat m = cv::Mat::zeros(geo.imageSize, CV_8UC1);
+  for (const cv::Point& q : geo.pixels) m.at<uint8_t>(q) = 255;
+  return m;
+}
 
 class PartFitter {
  public:
@@ -160,6 +196,17 @@ class PartFitter {
     levels_[0].geo = &geo;
     levels_[0].photo = photo;
     levels_[0].target = &target;
+    const TextureLossOptions texOptions = fitTextureOptions(target.options(), o);
+    if (anyPs(o) || o.placementWeight > 0) {
+      const cv::Mat mask0 = maskOf(geo);
+      if (anyPs(o)) {
+        levels_[0].ownTarget = std::make_unique<TextureLossTarget>(photo, mask0, texOptions);
+        levels_[0].target = levels_[0].ownTarget.get();
+      }
+      if (o.placementWeight > 0)
+        levels_[0].placement = std::make_unique<PlacementLossTarget>(
+            photo, mask0, PlacementLossOptions{static_cast<double>(o.placementSigma)});
+    }
     const int want = std::max(o.coarseLevels, o.searchLevels);
     while (static_cast<int>(levels_.size()) <= want) {
       const Level& f = levels_.back();
@@ -168,8 +215,12 @@ class PartFitter {
       if (cg->size() < o.minLevelPixels) break;
       Level c;
       c.photo = downsampleImage(*cg, f.photo);
-      c.ownTarget = std::make_unique<TextureLossTarget>(c.photo, mask, target.options());
+      c.ownTarget = std::make_unique<TextureLossTarget>(c.photo, mask, texOptions);
       c.target = c.ownTarget.get();
+      if (o.placementWeight > 0) {
+        const double sigma = std::max(0.5, o.placementSigma / std::ldexp(1.0, static_cast<int>(levels_.size())));
+        c.placement = std::make_unique<PlacementLossTarget>(c.photo, mask, PlacementLossOptions{sigma});
+      }
       c.ownGeo = std::move(cg);
       c.geo = c.ownGeo.get();
       levels_.push_back(std::move(c));
@@ -189,7 +240,7 @@ class PartFitter {
   }
 
   struct Eval {
-    double loss = 0, stat = 0, tex = 0;
+    double loss = 0, stat = 0, tex = 0, place = 0;
   };
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
@@ -220,26 +271,23 @@ class PartFitter {
       cv::multiply(p.image, gain, p.image);
     }
     Eval e;
-    cv::Mat gStat;
-    e.stat = o_.statWeight > 0 ? statLoss(photo, p.image, geo.pixels, grads ? &gStat : nullptr) : 0.0;
+    cv::Mat gImage;  // d loss / d render image
+    if (o_.statWeight > 0) {
+      cv::Mat g;
+      e.stat = statLoss(photo, p.image, geo.pixels, grads ? &g : nullptr);
+      if (grads) gImage = g * o_.statWeight;
+    }
     if (o_.textureWeight > 0) {
       TextureLossParams tp;
       tp.target = &target;
       tp.render = p.image;
       e.tex = textureLossForward(tp);
-      if (grads) {
-        cv::Mat gTex;
-        textureLossBackward(tp, o_.textureWeight, gTex);
-        if (gStat.empty()) gStat = gTex;
-        else gStat = gStat * o_.statWeight + gTex;
-      } else if (!gStat.empty()) {
-        gStat *= o_.statWeight;
-      }
-    } else if (grads) {
-      gStat *= o_.statWeight;
+      if (grads) textureLossBackward(tp, o_.textureWeight, gImage, !gImage.empty());
     }
-    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex;
-    if (grads) renderLayerBackward(p, gStat, *grads);
+    if (o_.placementWeight > 0)
+      e.place = placementLoss(*lv.placement, p.image, grads ? &gImage : nullptr, o_.placementWeight, !gImage.empty());
+    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place;
+    if (grads) renderLayerBackward(p, gImage, *grads);
     if (renderOut) *renderOut = p.image;
     return e;
   }
@@ -338,6 +386,18 @@ class PartFitter {
           uv.logScale = static_cast<float>(c.logScale + dj * ls);
           tryUv(uv);
         }
+    }
+    // the placement term sees the offset: a low-discrepancy set of offsets (the R2 sequence) around
+    // the best, so a pattern of any period in uv gets candidates at several of its phases
+    if (o_.placementWeight > 0) {
+      const UvParams c = best;
+      auto frac = [](double v) { return v - std::floor(v); };
+      for (int i = 1; i <= o_.placementOffsets; ++i) {
+        UvParams uv = c;
+        uv.offset = Vec2f(static_cast<float>(frac(c.offset.x() + i * 0.7548776662466927)),
+                          static_cast<float>(frac(c.offset.y() + i * 0.5698402909980532)));
+        tryUv(uv);
+      }
     }
     *bestLoss = bl;
     return cancelled_ ? s.uv : best;
@@ -552,6 +612,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   res.loss = e.loss;
   res.lossStat = e.stat;
   res.lossTexture = e.tex;
+  res.lossPlacement = e.place;
   res.seconds = timer.seconds();
   return res;
 }

@@ -97,7 +97,10 @@ TEST(Optim_PartFit, stat_loss_gradient_matches_finite_differences) {
   EXPECT_LT(maxErr, 1e-2);
 }
 
-TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differences) {
+// The worst relative error of the chain's gradient (every continuous graph parameter, the four UV
+// parameters) against central differences; `joint`: the texture loss with every joint statistic
+// of features/texture_ps.hpp weighted, plus the placement term (which sees the UV offset).
+double chainGradientWorst(bool joint, int* checkedOut) {
   const GraphLibrary lib = GraphLibrary::load();
   MaterialGraph truth = lib.create("wood_planks");
   truth.setValues(truthValues(truth, 5, 0.4f));
@@ -107,7 +110,13 @@ TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differ
   const int part = s.room.floor;
   const PartGeometry geo = preparePartGeometry(s.view.gbuffer, s.room.camera.position().cast<float>(), s.view.grid,
                                                s.view.gbuffer.mask[part], part);
-  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[part]);
+  TextureLossOptions texOptions;
+  if (joint) {
+    TextureLossWeights& w = texOptions.weights;
+    w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor = 0.05f;
+  }
+  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[part], texOptions);
+  const PlacementLossTarget placement(s.photo, s.view.gbuffer.mask[part], PlacementLossOptions{1.5});
   MaterialGraph g = lib.create("wood_planks");
   const int mapSize = 64;
   auto lossAt = [&](const std::vector<float>& values, const UvParams& uv, RenderLayerGradients* grads, std::vector<float>* dv) {
@@ -123,10 +132,13 @@ TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differ
     TextureLossParams tp;
     tp.target = &target;
     tp.render = p.image;
-    const double loss = textureLossForward(tp);  // smooth (the stat loss has |.| kinks)
+    double loss = textureLossForward(tp);  // smooth (the stat loss has |.| kinks)
+    const float placementWeight = 0.01f;
+    if (joint) loss += placementWeight * placementLoss(placement, p.image);
     if (grads) {
       cv::Mat gr;
       textureLossBackward(tp, 1.0f, gr);
+      if (joint) placementLoss(placement, p.image, &gr, placementWeight, true);
       renderLayerBackward(p, gr, *grads);
       MaterialMaps dm;
       dm.albedo = grads->albedo;
@@ -185,8 +197,44 @@ TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differ
     std::printf("uv[%d]            analytic %+.5f numeric %+.5f rel %.2e\n", k, ana, numBest, err);
     worst = std::max(worst, err);
   }
+  *checkedOut = checked;
+  return worst;
+}
+
+TEST(Optim_PartFit, gradient_through_graph_render_and_loss_matches_finite_differences) {
+  int checked = 0;
+  const double worst = chainGradientWorst(false, &checked);
   EXPECT_GE(checked, 8);
   EXPECT_LT(worst, 5e-2);
+}
+
+// The same chain with the joint texture statistics and the placement term in the loss.
+TEST(Optim_PartFit, gradient_with_joint_statistics_and_placement_matches_finite_differences) {
+  int checked = 0;
+  const double worst = chainGradientWorst(true, &checked);
+  EXPECT_GE(checked, 8);
+  EXPECT_LT(worst, 5e-2);
+}
+
+TEST(Optim_PartFit, new_loss_options_are_validated) {
+  std::string err;
+  PartFitOptions o = PartFitOptions::preset("balanced");
+  EXPECT_TRUE(o.IsValid(&err)) << err;
+  EXPECT_GT(o.placementWeight, 0.0f);  // on in balanced by measurement (modules/optim/README.md)
+  EXPECT_EQ(PartFitOptions::preset("fast").placementWeight, 0.0f);   // not measured there
+  EXPECT_EQ(PartFitOptions::preset("paper").placementWeight, 0.0f);  // the paper's loss
+  o.placementWeight = -1.0f;
+  EXPECT_FALSE(o.IsValid(&err));
+  o = PartFitOptions::preset("balanced");
+  o.placementSigma = 0.1f;
+  EXPECT_FALSE(o.IsValid(&err));
+  o = PartFitOptions::preset("balanced");
+  o.psCrossScale = -0.5f;
+  EXPECT_FALSE(o.IsValid(&err));
+  o = PartFitOptions::preset("balanced");
+  o.statWeight = o.textureWeight = 0.0f;
+  o.placementWeight = 1.0f;  // the placement term alone is a valid loss
+  EXPECT_TRUE(o.IsValid(&err)) << err;
 }
 
 // Shared by the recovery test and the scale test: one synthetic part, one fit.

@@ -114,6 +114,7 @@ uint64_t ExemplarBankOptions::hash() const {
       .add(r.oddMaskProbability)
       .add(shadingSigma);
   h.add(key.colorWeight).add(key.contrastWeight).add(key.anisotropyWeight).add(key.logFloor);
+  if (key.psWeight > 0) h.add(std::string_view("ps")).add(key.psWeight);  // (absent: old hashes hold)
   h.add(structureWeight).add(structure.maxCorrelationSize).add(structure.logFloor);
   for (float v : structure.gradientSigmas) h.add(v);
   h.add(-1.0f);

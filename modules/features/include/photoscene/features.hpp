@@ -7,8 +7,15 @@
 //   texture_loss.hpp        ps::TextureLossTarget (photo statistics, computed once),
 //                           textureLossForward() / textureLossBackward() sharing
 //                           ps::TextureLossParams, checkTextureLossGradient()
+//   texture_ps.hpp          computeTexturePsStatistics(): Portilla-Simoncelli-style joint
+//                           statistics (autocorrelations, cross-orientation / cross-scale
+//                           magnitude correlations, opponent colour), optional loss terms
+//   texture_placement.hpp   ps::PlacementLossTarget, placementLoss(): the pattern's placement
+//                           (low-passed luminance correlation, the paper's Eq. 9 pixel term)
 #pragma once
 
 #include "photoscene/features/texture_descriptor.hpp"
 #include "photoscene/features/texture_loss.hpp"
+#include "photoscene/features/texture_placement.hpp"
+#include "photoscene/features/texture_ps.hpp"
 #include "photoscene/features/texture_structure.hpp"

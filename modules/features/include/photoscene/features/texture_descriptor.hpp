@@ -122,11 +122,19 @@ struct TextureKeyOptions {
   float anisotropyWeight = 2.0f;
   /// Floor inside the logarithms of relative contrasts (contrast below it reads as flat).
   float logFloor = 1e-3f;
+  /// Weight of the joint statistics (texture_ps.hpp, pooled to be rotation-robust; see
+  /// computeTextureKey). 0 = not part of the key (the default: the key is unchanged).
+  float psWeight = 0.0f;
 
   bool IsValid(std::string* error) const;
 };
 
-/// Length of the key: 6 + 3 * numScales + numScales * (numOrientations / 2).
+/// Number of pooled joint-statistics entries the key gets when psWeight > 0:
+/// 4 S + 2 S + S (K / 2) + (S - 1) (K / 2 + 1) + 5 (46 with the defaults).
+int keyPsLength(const TextureDescriptorOptions& options);
+
+/// Length of the key: 6 + 3 * numScales + numScales * (numOrientations / 2), plus keyPsLength
+/// when psWeight > 0.
 int keyLength(const TextureKeyOptions& options);
 
 /// The lighting-invariant, rotation-robust key of a region, for a Euclidean kNN index.
@@ -146,6 +154,18 @@ int keyLength(const TextureKeyOptions& options);
 ///           p_k = meanMag(s, k) / sum_k meanMag(s, k): the anisotropy (h = 1: one dominant
 ///           direction, h = 2: two at 90 degrees), invariant to any circular shift of the profile,
 ///           so exactly invariant to rotations by multiples of pi / K and smooth in between.
+/// Then, only when psWeight > 0, the joint statistics of texture_ps.hpp (default lag windows) of
+/// the normalized image, pooled so they do not depend on the texture's orientation (up to
+/// multiples of 90 degrees):
+///   per level (4): the low-pass autocorrelation averaged over the lags in rings of length
+///           [1, 1.6), [1.6, 2.4), [2.4, 3.3), [3.3, 4.3) pixels of the level: periodicity
+///   per level (2): the band magnitudes' autocorrelation averaged over orientations and the
+///           rings [1, 1.6), [1.6, 2.9)
+///   per level (K/2): cross-orientation correlation averaged over the pairs h = 1..K/2 apart
+///   per level pair (K/2 + 1): cross-scale correlation averaged over (k, l) h = 0..K/2 apart
+///   5: the opponent correlations (O1, O2), (O1, O3), (O2, O3), log(sd O1 / sd O3),
+///      log(sd O2 / sd O3) (floors logFloor)
+/// each group scaled by psWeight / sqrt(its size).
 /// Groups are scaled by (weight / sqrt(group size)): color 6 entries, contrast 3S, anisotropy
 /// S*K/2. With the defaults the key has 26 entries. The key is not unit length on purpose: the
 /// log contrasts carry the absolute (relative-to-mean-level) texture strength.

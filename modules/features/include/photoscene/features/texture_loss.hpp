@@ -8,6 +8,14 @@
 // per-scale weight. nu = max(mean photo luminance over the mask, 1e-3) when normalizeByTarget is
 // set (the loss is then unitless and unchanged when photo and render are scaled together), else 1.
 //
+// Optional joint statistics (texture_ps.hpp; all weights 0 by default, and then neither computed
+// nor differentiated): the same squared differences, group mean times weight, of the low-pass
+// autocorrelation (psAutoLowpass), the band magnitudes' autocorrelation (psAutoMagnitude), the
+// cross-orientation (psCrossOrientation) and cross-scale (psCrossScale) magnitude correlations
+// (these four are correlation coefficients: not divided by nu) and the opponent colour
+// statistics (psColor: 9 entries; the 6 means and standard deviations divided by nu, the 3
+// correlations not).
+//
 // Forward and backward share one parameter struct (the nvdiffrast pattern): the caller fills the
 // inputs, textureLossForward() fills the outputs and the workspace, textureLossBackward() reads
 // them. The photo's descriptor is computed once, in TextureLossTarget.
@@ -26,6 +34,7 @@
 #pragma once
 
 #include "photoscene/features/texture_descriptor.hpp"
+#include "photoscene/features/texture_ps.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -45,11 +54,23 @@ struct TextureLossWeights {
   float bandStdMag = 1.0f;
   /// Per-scale multipliers of the band groups; empty = all 1, else numScales entries >= 0.
   std::vector<float> scale;
+  /// The joint statistics of texture_ps.hpp (0: not computed).
+  float psAutoLowpass = 0.0f;
+  float psAutoMagnitude = 0.0f;
+  float psCrossOrientation = 0.0f;
+  float psCrossScale = 0.0f;
+  float psColor = 0.0f;
+  bool anyPs() const {
+    return psAutoLowpass > 0 || psAutoMagnitude > 0 || psCrossOrientation > 0 || psCrossScale > 0 ||
+           psColor > 0;
+  }
 };
 
 struct TextureLossOptions {
   TextureDescriptorOptions descriptor;
   TextureLossWeights weights;
+  /// Lag windows of the joint statistics (used when a weights.ps* is > 0).
+  TexturePsOptions ps;
   /// Divide descriptor differences by the photo's mean masked luminance (see the top).
   bool normalizeByTarget = true;
 
@@ -73,6 +94,8 @@ class TextureLossTarget {
   cv::Size imageSize() const;                   ///< size renders must have
   cv::Rect crop() const;                        ///< region of the image the loss reads
   double normalizer() const;                    ///< nu
+  /// The photo's joint statistics (texture_ps.hpp layout; empty when every ps weight is 0).
+  const std::vector<float>& psStatistics() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -95,6 +118,11 @@ struct TextureLossParams {
   TextureDescriptor renderDescriptor;  ///< the render's descriptor
   /// Per-group contributions to loss: colorMean, colorStd, meanRe, stdRe, meanMag, stdMag.
   double groupLoss[6] = {0, 0, 0, 0, 0, 0};
+  /// Contributions of the joint statistics: psAutoLowpass, psAutoMagnitude, psCrossOrientation,
+  /// psCrossScale, psColor (0 when their weight is 0).
+  double psGroupLoss[5] = {0, 0, 0, 0, 0};
+  /// The render's joint statistics (texture_ps.hpp layout; empty when every ps weight is 0).
+  std::vector<float> renderPs;
 
   // ---- workspace (written by forward, read by backward) ----
   std::shared_ptr<TextureLossWorkspace> workspace;

@@ -2,10 +2,14 @@
 // roughness and the part's UV transform, fitted so that the render layer's image of the part
 // matches the photo.
 //
-//   loss = statWeight * L_stat + textureWeight * L_tex
+//   loss = statWeight * L_stat + textureWeight * L_tex + placementWeight * L_place
 //   L_stat = sum_c |mu_c(photo) - mu_c(render)| / nu + |var_c(photo) - var_c(render)| / nu^2  (Eq. 6-8,
 //            masked; nu = mean photo luminance over the mask, so the loss is unitless)
-//   L_tex  = ps::textureLossForward (masked multi-scale texture statistics, the Eq. 9 stand-in)
+//   L_tex  = ps::textureLossForward (masked multi-scale texture statistics, the Eq. 9 stand-in;
+//            optionally with the joint statistics of features/texture_ps.hpp, `ps*` below)
+//   L_place = ps::placementLoss (features/texture_placement.hpp: 1 - the correlation of the
+//            low-passed luminances of render and photo over the mask; Eq. 9's pixel term after the
+//            warp: the caller's photo is the aligned one). On in "balanced" (0.1), off elsewhere.
 //
 // The roughness output of the graph is replaced by one scalar while fitting (initialised to the
 // mean of the graph's roughness map); the result says how to rescale the full map to it.
@@ -29,6 +33,7 @@
 #include <opencv2/core.hpp>
 
 #include "photoscene/features/texture_loss.hpp"
+#include "photoscene/features/texture_placement.hpp"
 #include "photoscene/graph/material_graph.hpp"
 #include "photoscene/optim/adam.hpp"
 #include "photoscene/optim/uv_spectrum.hpp"
@@ -59,6 +64,20 @@ struct PartFitOptions {
   float uvLearningRate = 0.01f;    ///< Adam, on rotation (rad), log-scale and offsets
   float statWeight = 0.1f;         ///< a
   float textureWeight = 1.0f;      ///< b
+  /// Weight of the placement term (0 = off): where the pattern lies (UV offset and rotation of
+  /// planks, grout), which the texture statistics cannot see. "balanced": 0.1 (measured).
+  float placementWeight = 0.0f;
+  /// Its low-pass (pixels at full resolution; halved per coarse level, at least 0.5).
+  float placementSigma = 2.0f;
+  /// With the placement term on, after each UV search: this many offsets (a low-discrepancy set
+  /// over [0, 1)^2 around the best, so every pattern period is sampled) at the best rotation and
+  /// scale, compared at full resolution (0 = none: only Adam moves the offset).
+  int placementOffsets = 16;
+  /// The texture loss's joint statistics (TextureLossWeights::ps*). When any is > 0, the fit
+  /// builds its own texture-loss targets (the caller's target options with these five weights, on
+  /// the geometry's pixels); all 0 = the caller's target as it is.
+  float psAutoLowpass = 0.0f, psAutoMagnitude = 0.0f, psCrossOrientation = 0.0f,
+        psCrossScale = 0.0f, psColor = 0.0f;
   bool fitUvContinuous = true;     ///< Adam also moves the UV transform between searches
   int uvSearchEvery = 50;          ///< iterations between discrete searches (0: only before the first)
   int searchRotations = 24;        ///< over [0, 360) degrees
@@ -118,6 +137,7 @@ struct PartFitResult {
   float roughness = 0.5f;          ///< the fitted mean roughness
   float roughnessScale = 1.0f;     ///< multiplies the graph's roughness map to that mean
   double loss = 0, lossStat = 0, lossTexture = 0;  ///< at the returned values
+  double lossPlacement = 0;                         ///< L_place at the returned values (0 if off)
   double initialLoss = 0, initialTextureLoss = 0;  ///< at the start (defaults, initial UV)
   int iterations = 0;              ///< Adam steps taken (all starts)
   int searches = 0;                ///< discrete UV searches run
