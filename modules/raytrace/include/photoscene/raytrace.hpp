@@ -4,6 +4,7 @@
 
 #include "photoscene/raytrace/accel.hpp"
 #include "photoscene/raytrace/bsdf.hpp"
+#include "photoscene/raytrace/denoise.hpp"
 #include "photoscene/raytrace/gbuffer.hpp"
 #include "photoscene/raytrace/incident_light.hpp"
 #include "photoscene/raytrace/path_tracer.hpp"
