@@ -16,6 +16,7 @@
 #include "photoscene/raytrace.hpp"
 #include "photoscene/render.hpp"
 #include "photoscene/scene.hpp"
+#include "photoscene/select/exemplar_bank.hpp"
 
 namespace ps::pipeline {
 
@@ -61,6 +62,7 @@ struct PartWork {
   Vec3f median = Vec3f::Constant(0.5f); ///< median photo colour over M_aln (linear)
   std::string graph = "homogeneous", category = "homogeneous";
   std::vector<std::string> runnersUp;
+  std::vector<GraphVote> candidates;    ///< the kNN vote's top 5 (weight: share of the vote)
   // the fit
   std::vector<float> values;
   UvParams uv;

@@ -580,7 +580,7 @@ void stageSelect(Context& ctx) {
     if (desc && desc->graph) h.add(std::string_view(*desc->graph));
     // the bank's file name carries its format version, the library's content hash and its
     // options: a new bank (or library) redoes the selections made with the old one
-    h.add(std::string_view(bankName));
+    h.add(std::string_view(bankName)).add(std::string_view("candidates"));
     p.selectKey = h.digest();
     const std::string name = "select-" + p.name;
     if (auto hit = ctx.cache->load(name, p.selectKey)) {
@@ -589,9 +589,12 @@ void stageSelect(Context& ctx) {
       const int n = hit->get<int32_t>();
       p.runnersUp.clear();
       for (int i = 0; i < n; ++i) p.runnersUp.push_back(hit->getString());
+      p.candidates.resize(hit->get<int32_t>());
+      for (GraphVote& v : p.candidates) v = {hit->getString(), hit->getString(), hit->get<double>(), hit->get<int32_t>()};
       stage.cached();
     } else {
       p.runnersUp.clear();
+      p.candidates.clear();
       if (desc && desc->graph) {
         p.graph = *desc->graph;
       } else if (cv::countNonZero(view.photoMask.at(p.id)) < minPixels) {
@@ -611,6 +614,11 @@ void stageSelect(Context& ctx) {
                                   : selectForPart(*bank, view.photo, view.photoMask.at(p.id), cv::Mat());
         p.graph = c.graph;
         for (size_t i = 1; i < c.votes.size() && i < 4; ++i) p.runnersUp.push_back(c.votes[i].graph);
+        double total = 0;
+        for (const GraphVote& v : c.votes) total += v.weight;
+        for (size_t i = 0; i < c.votes.size() && i < 5; ++i)
+          p.candidates.push_back({c.votes[i].graph, c.votes[i].category, total > 0 ? c.votes[i].weight / total : 0,
+                                  c.votes[i].count});
       }
       p.category = ctx.library->get(p.graph).category();
       Archive a;
@@ -618,6 +626,13 @@ void stageSelect(Context& ctx) {
       a.putString(p.category);
       a.put<int32_t>(static_cast<int32_t>(p.runnersUp.size()));
       for (const std::string& r : p.runnersUp) a.putString(r);
+      a.put<int32_t>(static_cast<int32_t>(p.candidates.size()));
+      for (const GraphVote& v : p.candidates) {
+        a.putString(v.graph);
+        a.putString(v.category);
+        a.put(v.weight);
+        a.put<int32_t>(v.count);
+      }
       ctx.cache->store(name, p.selectKey, a);
       stage.computed();
     }
