@@ -154,7 +154,10 @@ std::vector<Quad> boxQuads(const Vec3f& l, const Vec3f& h, const std::string& to
           {top, c[3], c[7], c[6], c[2]}};
 }
 
-io::ObjMesh roomMesh(bool window) {
+/// The room (see the file comment); `room20`: the 20-part variant of the timing case, where the
+/// side walls wear materials too and eight boxes replace the box and the ottoman, each with a
+/// `top_<k>` and a `side_<k>` part.
+io::ObjMesh roomMesh(bool window, bool room20) {
   const float X = 2.0f, H = 2.6f, Z = 1.75f;
   std::vector<Quad> q;
   // seen from inside
@@ -162,22 +165,33 @@ io::ObjMesh roomMesh(bool window) {
   q.push_back({"ceiling", {-X, H, -Z}, {X, H, -Z}, {X, H, Z}, {-X, H, Z}});
   q.push_back({"wall", {-X, 0, -Z}, {X, 0, -Z}, {X, H, -Z}, {-X, H, -Z}});
   q.push_back({"walls", {X, 0, Z}, {-X, 0, Z}, {-X, H, Z}, {X, H, Z}});
-  q.push_back({"walls", {X, 0, -Z}, {X, 0, Z}, {X, H, Z}, {X, H, -Z}});
+  q.push_back({room20 ? "wall_right" : "walls", {X, 0, -Z}, {X, 0, Z}, {X, H, Z}, {X, H, -Z}});
   // left wall (x = -X, seen from +x) around a window opening z in [-0.7, 0.5], y in [0.9, 2.0]
   const float z0 = -0.7f, z1 = 0.5f, y0 = 0.9f, y1 = 2.0f;
   auto left = [&](const std::string& part, float za, float zb, float ya, float yb) {
     q.push_back({part, {-X, ya, za}, {-X, ya, zb}, {-X, yb, zb}, {-X, yb, za}});
   };
-  left("walls", -Z, z0, 0, H);
-  left("walls", z1, Z, 0, H);
-  left("walls", z0, z1, 0, y0);
-  left("walls", z0, z1, y1, H);
-  left(window ? "window" : "walls", z0, z1, y0, y1);
-  for (const Quad& b : boxQuads({-0.9f, 0, -1.1f}, {0.2f, 0.5f, -0.35f}, "box_top", "box_side"))
-    q.push_back(b);
-  for (const Quad& b :
-       boxQuads({0.55f, 0, -0.55f}, {1.35f, 0.45f, 0.25f}, "upholstered", "upholstered"))
-    q.push_back(b);
+  const std::string leftPart = room20 ? "wall_left" : "walls";
+  left(leftPart, -Z, z0, 0, H);
+  left(leftPart, z1, Z, 0, H);
+  left(leftPart, z0, z1, 0, y0);
+  left(leftPart, z0, z1, y1, H);
+  left(window ? "window" : leftPart, z0, z1, y0, y1);
+  if (room20) {
+    for (int k = 0; k < 8; ++k) {
+      const float x = -1.7f + 0.85f * (k % 4), z = -1.45f + 0.9f * (k / 4),
+                  h = 0.3f + 0.08f * (k % 3);
+      for (const Quad& b : boxQuads({x, 0, z}, {x + 0.6f, h, z + 0.55f}, fmt::format("top_{}", k),
+                                    fmt::format("side_{}", k)))
+        q.push_back(b);
+    }
+  } else {
+    for (const Quad& b : boxQuads({-0.9f, 0, -1.1f}, {0.2f, 0.5f, -0.35f}, "box_top", "box_side"))
+      q.push_back(b);
+    for (const Quad& b :
+         boxQuads({0.55f, 0, -0.55f}, {1.35f, 0.45f, 0.25f}, "upholstered", "upholstered"))
+      q.push_back(b);
+  }
   io::ObjMesh m;
   for (const Quad& f : q) {
     int mat = -1;
@@ -214,9 +228,38 @@ CaseGeometry cameras(int w, int h) {
 /// Map period in meters per textured part (the material's own size when the manifest has it).
 double periodFor(const RealMaterial& m, const std::string& part) {
   const double base = m.sizeM > 0 ? m.sizeM : 1.5;
-  if (part == "box_top") return base * 0.55;
-  if (part == "upholstered") return base * 0.4;
+  if (part == "box_top" || part.rfind("top_", 0) == 0) return base * 0.55;
+  if (part == "upholstered" || part.rfind("side_", 0) == 0) return base * 0.4;
   return base;
+}
+
+/// One case: which material each textured part wears.
+struct CaseSpec {
+  std::string name;  ///< the material's name, or "room20"
+  std::vector<std::pair<std::string, RealMaterial>> textured;
+  bool room20 = false;
+};
+
+CaseSpec singleMaterial(const RealMaterial& m) {
+  CaseSpec c;
+  c.name = m.name;
+  for (const std::string& part : kTexturedParts) c.textured.push_back({part, m});
+  return c;
+}
+
+/// The timing case: 20 parts, each another material (in the order given).
+CaseSpec room20Case(const std::vector<RealMaterial>& materials) {
+  CaseSpec c;
+  c.name = "room20";
+  c.room20 = true;
+  std::vector<std::string> parts = {"floor", "wall", "wall_left", "wall_right"};
+  for (int k = 0; k < 8; ++k) {
+    parts.push_back(fmt::format("top_{}", k));
+    parts.push_back(fmt::format("side_{}", k));
+  }
+  for (size_t i = 0; i < parts.size() && !materials.empty(); ++i)
+    c.textured.push_back({parts[i], materials[i % materials.size()]});
+  return c;
 }
 
 struct Neutral {
@@ -256,8 +299,8 @@ double percentileLuminance(const std::vector<cv::Mat>& images, double q) {
 }
 
 /// Writes one case folder (nothing when its scene.json exists already).
-void generateCase(const Options& o, const RealMaterial& mat, const std::string& lighting) {
-  const fs::path dir = caseDir(o, mat.name, lighting);
+void generateCase(const Options& o, const CaseSpec& spec, const std::string& lighting) {
+  const fs::path dir = caseDir(o, spec.name, lighting);
   if (fs::exists(dir / "scene.json")) return;
   const fs::path tmp = dir.string() + ".tmp";
   fs::remove_all(tmp);
@@ -265,7 +308,7 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
     fs::create_directories(tmp / sub);
   const bool window = lighting == "window";
 
-  io::ObjMesh obj = roomMesh(window);
+  io::ObjMesh obj = roomMesh(window, spec.room20);
   std::vector<Part> parts;
   const Mesh mesh = meshFromObj(obj, &parts, Vec3f(0, 1, 0));
   obj.texcoords.clear();
@@ -276,30 +319,40 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
     }
   io::writeObj(tmp / "room.obj", obj);
 
-  // true materials: the photographed maps on the four parts, the neutral parts homogeneous
-  fs::path normalPng;
-  if (!mat.normal.empty()) {
-    cv::Mat n = io::readDataImage(mat.normal);
-    if (n.channels() == 1) cv::cvtColor(n, n, cv::COLOR_GRAY2RGB);
-    if (mat.normalDirectX) {
-      std::vector<cv::Mat> ch;
-      cv::split(n, ch);
-      ch[1] = 1.0 - ch[1];
-      cv::merge(ch, n);
+  // true materials: the photographed maps on the textured parts, the neutral parts homogeneous
+  struct Maps {
+    fs::path normal;
+    Vec3d albedoMean = Vec3d::Constant(0.5);
+    double roughMean = 0.6;
+  };
+  std::map<std::string, Maps> mapsOf;
+  for (const auto& [part, mat] : spec.textured) {
+    if (mapsOf.count(mat.name)) continue;
+    Maps& mp = mapsOf[mat.name];
+    if (!mat.normal.empty()) {
+      cv::Mat n = io::readDataImage(mat.normal);
+      if (n.channels() == 1) cv::cvtColor(n, n, cv::COLOR_GRAY2RGB);
+      if (mat.normalDirectX) {
+        std::vector<cv::Mat> ch;
+        cv::split(n, ch);
+        ch[1] = 1.0 - ch[1];
+        cv::merge(ch, n);
+      }
+      const std::string file = "normal_" + mat.name + ".png";
+      io::WriteOptions lin;
+      lin.encode = io::ColorSpace::Linear;
+      lin.bits = 16;
+      io::writeImage(tmp / "gt/twin/textures" / file, n, lin);
+      mp.normal = fs::absolute(dir / "gt/twin/textures" / file);
     }
-    normalPng = tmp / "gt/twin/textures/normal.png";
-    io::WriteOptions lin;
-    lin.encode = io::ColorSpace::Linear;
-    lin.bits = 16;
-    io::writeImage(normalPng, n, lin);
+    const cv::Scalar a = cv::mean(io::readImage(mat.albedo));
+    mp.albedoMean = Vec3d(a[0], a[1], a[2]);
+    if (!mat.roughness.empty()) mp.roughMean = cv::mean(io::readDataImage(mat.roughness))[0];
   }
-  const cv::Mat albedo = io::readImage(mat.albedo);
-  const cv::Scalar albedoMean = cv::mean(albedo);
-  double roughMean = 0.6;
-  if (!mat.roughness.empty()) roughMean = cv::mean(io::readDataImage(mat.roughness))[0];
-  Rng rng(fnv1a(mat.name) ^ (window ? 0x9e3779b97f4a7c15ull : 0));
+  Rng rng(fnv1a(spec.name) ^ (window ? 0x9e3779b97f4a7c15ull : 0));
   nlohmann::json truth = nlohmann::json::object();
-  for (const std::string& part : kTexturedParts) {
+  for (const auto& [part, mat] : spec.textured) {
+    const Maps& mp = mapsOf.at(mat.name);
     io::MaterialFileDesc m;
     m.part = part;
     m.graph = "photo:" + mat.name;
@@ -307,19 +360,24 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
     m.uv.rotationDeg = 0;
     m.uv.scale = Vec2d::Constant(1.0 / periodFor(mat, part));
     m.uv.offset = Vec2d(rng.uniform(), rng.uniform());
-    m.homogeneous.albedo = Vec3d(albedoMean[0], albedoMean[1], albedoMean[2]);
-    m.homogeneous.roughness = roughMean;
+    m.homogeneous.albedo = mp.albedoMean;
+    m.homogeneous.roughness = mp.roughMean;
     m.maps["albedo"] = fs::absolute(mat.albedo);
     if (!mat.roughness.empty()) m.maps["roughness"] = fs::absolute(mat.roughness);
-    if (!normalPng.empty()) m.maps["normal"] = fs::absolute(dir / "gt/twin/textures/normal.png");
+    if (!mp.normal.empty()) m.maps["normal"] = mp.normal;
     m.skipped = "ground truth (not fitted)";
     // written with paths relative to the final folder (the temporary one is renamed)
     io::writeMaterialJson(tmp / "gt/twin/materials" / (part + ".json"), m, dir / "gt/twin");
-    truth[part] = {{"period_m", periodFor(mat, part)},
+    truth[part] = {{"material", mat.name},
+                   {"category", mat.category},
+                   {"period_m", periodFor(mat, part)},
                    {"offset", {m.uv.offset.x(), m.uv.offset.y()}}};
   }
   nlohmann::json fixedParts = nlohmann::json::object();
   for (const Neutral& n : kNeutral) {
+    if (std::find(obj.materialNames.begin(), obj.materialNames.end(), n.part) ==
+        obj.materialNames.end())
+      continue;
     io::MaterialFileDesc m;
     m.part = n.part;
     m.graph = m.category = "homogeneous";
@@ -376,6 +434,17 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
                                                    {"lights", gtLights}});
   };
   writeTwinScene();
+  // scene.json places ceiling lights wherever it gives no area light; the truth of the window
+  // lighting has none: its lights.json (which loadTwin prefers) holds the environment alone
+  auto windowLights = [&](const fs::path& twinDir, double radiance) {
+    io::writeJsonFile(twinDir / "lights.json", {{"emitters", nlohmann::json::array()},
+                                                {"environment",
+                                                 {{"image", "../../env/sky.exr"},
+                                                  {"window_parts", {"window"}},
+                                                  {"radiance", {radiance, radiance, radiance}}}},
+                                                {"exposure", {1.0, 1.0}}});
+  };
+  if (window) windowLights(tmp / "gt/twin", 1.0);
   // loadTwin reads the maps through the final folder's relative paths: render in place
   fs::remove_all(dir);
   fs::create_directories(dir.parent_path());
@@ -397,7 +466,8 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
     // the true material, re-rendered with random UV offsets and another noise seed
     std::vector<PartMaterial> moved = twin.materials;
     for (PartMaterial& m : moved)
-      if (std::find(kTexturedParts.begin(), kTexturedParts.end(), m.part) != kTexturedParts.end())
+      if (std::any_of(spec.textured.begin(), spec.textured.end(),
+                      [&](const auto& t) { return t.first == m.part; }))
         m.uv.offset += Vec2f(0.25f + 0.5f * rng.uniform(), 0.25f + 0.5f * rng.uniform());
     {
       const PathTracer tracer(twin.scene, moved);
@@ -429,6 +499,7 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
     // the truth's lights as exposed
     if (window) {
       gtLights["environment"]["radiance"] = {exposure, exposure, exposure};
+      windowLights(dir / "gt/twin", exposure);
     } else {
       gtLights["area"][0]["radiance"] = {exposure * warm.x(), exposure * warm.y(),
                                          exposure * warm.z()};
@@ -443,11 +514,9 @@ void generateCase(const Options& o, const RealMaterial& mat, const std::string& 
                                                    {"up", {0, 1, 0}},
                                                    {"views", twinViews},
                                                    {"lights", gtLights}});
-    io::writeJsonFile(dir / "gt/truth.json", {{"material", mat.name},
-                                              {"category", mat.category},
-                                              {"lighting", lighting},
-                                              {"spp", o.spp},
-                                              {"parts", truth}});
+    io::writeJsonFile(
+        dir / "gt/truth.json",
+        {{"case", spec.name}, {"lighting", lighting}, {"spp", o.spp}, {"parts", truth}});
     // scene.json last: its presence marks the case as complete
     io::writeJsonFile(dir / "scene.json", {{"version", 1},
                                            {"geometry", "room.obj"},
@@ -558,9 +627,9 @@ PipelineOptions pipelineOptions(const Options& o, const fs::path& scene, const f
   return p;
 }
 
-CaseResult runCase(const Options& o, const RealMaterial& mat, const std::string& lighting) {
-  const fs::path dir = caseDir(o, mat.name, lighting);
-  const fs::path runs = o.work / "runs" / mat.name / lighting;
+CaseResult runCase(const Options& o, const CaseSpec& spec, const std::string& lighting) {
+  const fs::path dir = caseDir(o, spec.name, lighting);
+  const fs::path runs = o.work / "runs" / spec.name / lighting;
   CaseResult r;
   const PipelineResult method =
       runPipeline(pipelineOptions(o, dir / "scene.json", runs / "method", Baseline::None));
@@ -581,7 +650,7 @@ CaseResult runCase(const Options& o, const RealMaterial& mat, const std::string&
   for (const auto& view : sceneJson.at("views"))
     for (const auto& [value, part] : view.at("segment_parts").items())
       labelOf[part.get<std::string>()] = std::stoi(value);
-  for (const std::string& part : kTexturedParts) {
+  for (const auto& [part, mat] : spec.textured) {
     PartScore s;
     s.material = mat.name;
     s.category = mat.category;
@@ -834,7 +903,7 @@ int main(int argc, char** argv) {
   o.work = "real-textures";
   std::string materialsArg, lightingsArg = "warm,window", splitArg = "all", csvArg, sheetArg;
   int limit = 0, sheetRows = 12;
-  bool check = false, force = false, cachedOnly = false;
+  bool check = false, force = false, cachedOnly = false, room20 = false;
   app.add_option("--data", o.data, "shared data folder");
   app.add_option("--work", o.work, "work folder (cases, runs, per-case results; reused)");
   app.add_option("--materials", materialsArg, "comma list of material names (default: all)");
@@ -854,6 +923,10 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check,
                "ctest mode: exit 1 unless every number is finite and every part reported");
   app.add_flag("--force", force, "rerun the cases whose results are cached");
+  app.add_flag(
+      "--room20", room20,
+      "the timing case instead: one room whose 20 parts wear 20 materials (the first 20 chosen), "
+      "the first lighting only");
   app.add_flag("--cached-only", cachedOnly,
                "report only the cases whose results are cached (run nothing)");
   CLI11_PARSE(app, argc, argv);
@@ -896,27 +969,42 @@ int main(int argc, char** argv) {
     std::vector<PartScore> rows;
     std::map<std::string, double> stageSum;
     double methodSum = 0, baselineSum = 0;
-    int cases = 0;
+    int cases = 0, failed = 0;
     bool ok = true;
     std::printf("%-36s %-9s %-6s %-11s %-24s %-10s %6s %7s %7s %6s %6s %6s  %s\n", "material",
                 "category", "split", "part", "graph (lighting)", "chosen cat", "px", "RMSE",
                 "median", "dist", "offset", "fit s", "top-5 (vote share)");
-    for (const RealMaterial& m : chosen)
+    std::vector<CaseSpec> specs;
+    if (room20) {
+      specs.push_back(room20Case(chosen));
+      o.lightings = {o.lightings.front()};
+    } else {
+      for (const RealMaterial& m : chosen) specs.push_back(singleMaterial(m));
+    }
+    for (const CaseSpec& spec : specs)
       for (const std::string& lighting : o.lightings) {
-        const fs::path result = o.work / "results" / (m.name + "_" + lighting + ".json");
+        const fs::path result = o.work / "results" / (spec.name + "_" + lighting + ".json");
         CaseResult r;
         if (fs::exists(result) && !force) {
           r = fromJson(io::readJsonFile(result));
         } else if (cachedOnly) {
           continue;
         } else {
-          Timer t;
-          generateCase(o, m, lighting);
-          const double gen = t.seconds();
-          r = runCase(o, m, lighting);
-          r.generateSeconds = gen;
-          fs::create_directories(result.parent_path());
-          io::writeJsonFile(result, toJson(r));
+          // a case that fails is reported and left out; the others go on
+          try {
+            Timer t;
+            generateCase(o, spec, lighting);
+            const double gen = t.seconds();
+            r = runCase(o, spec, lighting);
+            r.generateSeconds = gen;
+            fs::create_directories(result.parent_path());
+            io::writeJsonFile(result, toJson(r));
+          } catch (const std::exception& e) {
+            std::printf("FAILED %s (%s): %s\n", spec.name.c_str(), lighting.c_str(), e.what());
+            ++failed;
+            ok = false;
+            continue;
+          }
         }
         ++cases;
         for (const auto& [k, v] : r.stageSeconds) stageSum[k] += v;
@@ -935,9 +1023,10 @@ int main(int argc, char** argv) {
                            p.fitSeconds})
             if (!std::isfinite(v)) ok = false;
         }
-        if (r.parts.size() != kTexturedParts.size() || !std::isfinite(r.methodSeconds)) ok = false;
+        if (r.parts.size() != spec.textured.size() || !std::isfinite(r.methodSeconds)) ok = false;
       }
 
+    if (failed) std::printf("\n%d cases FAILED (above)\n", failed);
     std::printf(
         "\nsummary (%d cases = materials x lightings, %d parts; category on the parts the fit view "
         "sees with >= %d px)\n",
@@ -983,7 +1072,7 @@ int main(int argc, char** argv) {
       if (static_cast<int>(pick.size()) > sheetRows) pick.resize(sheetRows);
       contactSheet(o, pick, rows, sheetArg);
     }
-    if (check && (!ok || cases != static_cast<int>(chosen.size() * o.lightings.size()))) {
+    if (check && (!ok || cases != static_cast<int>(specs.size() * o.lightings.size()))) {
       std::printf("CHECK FAILED: a number is not finite or a part is missing\n");
       return 1;
     }
