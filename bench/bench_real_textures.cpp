@@ -14,12 +14,14 @@
 //                   `box_top`, an ottoman whose five visible faces are `upholstered` (these four
 //                   parts wear the material), neutral `walls`, `ceiling`, `box_side` (given as
 //                   `fixed` in scene.json, as a user would give a wall colour), and for the window
-//                   lighting a `window` opening in the left wall. UVs in meters (planar per face).
+//                   lighting a 2.8 x 1.6 m `window` opening in the left wall. UVs in meters (planar
+//                   per face).
 //   lightings       warm: one 0.8 x 0.5 m ceiling rectangle of warm radiance (2900 K-ish);
 //                   window: the window part with the environment blender-room/env/forest.exr
 //                   behind it, nothing else. Intensities are to be fitted (not given).
-//   photos          view0, view1 from two cameras, path-traced at --spp (the working resolution's
-//                   noise), exposed so that the 90th percentile luminance is 0.8, sRGB 8-bit
+//   photos          view0, view1 from two cameras, path-traced at --spp (2 x --spp for the window
+//                   lighting, whose light converges slower; the pipeline renders at the same spp),
+//                   exposed so that the 90th percentile luminance is 0.8, sRGB 8-bit
 //   segments        16-bit labels 1000 + part id from the G-buffer, pinned by segment_parts
 //   gt/twin         the true twin (materials/<part>.json with the photographed maps)
 //   gt/offset_view<i>.exr   the true twin with every textured part's UV offset moved by a random
@@ -167,7 +169,7 @@ io::ObjMesh roomMesh(bool window, bool room20) {
   q.push_back({"walls", {X, 0, Z}, {-X, 0, Z}, {-X, H, Z}, {X, H, Z}});
   q.push_back({room20 ? "wall_right" : "walls", {X, 0, -Z}, {X, 0, Z}, {X, H, Z}, {X, H, -Z}});
   // left wall (x = -X, seen from +x) around a window opening z in [-0.7, 0.5], y in [0.9, 2.0]
-  const float z0 = -0.7f, z1 = 0.5f, y0 = 0.9f, y1 = 2.0f;
+  const float z0 = -1.5f, z1 = 1.3f, y0 = 0.8f, y1 = 2.4f;
   auto left = [&](const std::string& part, float za, float zb, float ya, float yb) {
     q.push_back({part, {-X, ya, za}, {-X, ya, zb}, {-X, yb, zb}, {-X, yb, za}});
   };
@@ -279,6 +281,12 @@ struct Options {
   int threads = 2, width = 320, height = 240, spp = 32, textureSize = 64;
   std::vector<std::string> lightings = {"warm", "window"};
 };
+
+/// Light through a window converges slower than a ceiling rectangle: twice the samples, so both
+/// photos carry noise of a similar level.
+int sppFor(const Options& o, const std::string& lighting) {
+  return lighting == "window" ? 2 * o.spp : o.spp;
+}
 
 fs::path caseDir(const Options& o, const std::string& material, const std::string& lighting) {
   return o.work / "scenes" / material / lighting;
@@ -452,7 +460,7 @@ void generateCase(const Options& o, const CaseSpec& spec, const std::string& lig
   try {
     Twin twin = loadTwin(dir / "gt/twin");
     RenderOptions ro;
-    ro.spp = o.spp;
+    ro.spp = sppFor(o, lighting);
     std::vector<cv::Mat> imgs, offs;
     std::vector<GBuffer> gbs;
     {
@@ -514,9 +522,10 @@ void generateCase(const Options& o, const CaseSpec& spec, const std::string& lig
                                                    {"up", {0, 1, 0}},
                                                    {"views", twinViews},
                                                    {"lights", gtLights}});
-    io::writeJsonFile(
-        dir / "gt/truth.json",
-        {{"case", spec.name}, {"lighting", lighting}, {"spp", o.spp}, {"parts", truth}});
+    io::writeJsonFile(dir / "gt/truth.json", {{"case", spec.name},
+                                              {"lighting", lighting},
+                                              {"spp", sppFor(o, lighting)},
+                                              {"parts", truth}});
     // scene.json last: its presence marks the case as complete
     io::writeJsonFile(dir / "scene.json", {{"version", 1},
                                            {"geometry", "room.obj"},
@@ -611,8 +620,8 @@ CaseResult fromJson(const nlohmann::json& j) {
   return r;
 }
 
-PipelineOptions pipelineOptions(const Options& o, const fs::path& scene, const fs::path& out,
-                                Baseline b) {
+PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
+                                const fs::path& scene, const fs::path& out, Baseline b) {
   PipelineOptions p;
   p.scene = scene;
   p.out = out;
@@ -621,7 +630,7 @@ PipelineOptions pipelineOptions(const Options& o, const fs::path& scene, const f
   p.baseline = b;
   p.textureSize = o.textureSize;
   p.workWidth = o.width;
-  p.renderSpp = o.spp;
+  p.renderSpp = sppFor(o, lighting);
   p.writeReport = false;
   p.writeGltf = false;
   return p;
@@ -631,8 +640,8 @@ CaseResult runCase(const Options& o, const CaseSpec& spec, const std::string& li
   const fs::path dir = caseDir(o, spec.name, lighting);
   const fs::path runs = o.work / "runs" / spec.name / lighting;
   CaseResult r;
-  const PipelineResult method =
-      runPipeline(pipelineOptions(o, dir / "scene.json", runs / "method", Baseline::None));
+  const PipelineResult method = runPipeline(
+      pipelineOptions(o, lighting, dir / "scene.json", runs / "method", Baseline::None));
   for (const StageRecord& s : method.stages) r.stageSeconds[s.name] = s.seconds;
   r.methodSeconds = method.totalSeconds;
   // the baseline reads the same geometry, alignment and first lights: it starts from a copy of
@@ -641,8 +650,8 @@ CaseResult runCase(const Options& o, const CaseSpec& spec, const std::string& li
     fs::create_directories(runs / "pixel-median");
     fs::copy(runs / "method/.cache", runs / "pixel-median/.cache", fs::copy_options::recursive);
   }
-  const PipelineResult base = runPipeline(
-      pipelineOptions(o, dir / "scene.json", runs / "pixel-median", Baseline::PixelMedian));
+  const PipelineResult base = runPipeline(pipelineOptions(
+      o, lighting, dir / "scene.json", runs / "pixel-median", Baseline::PixelMedian));
   r.baselineSeconds = base.totalSeconds;
 
   const nlohmann::json sceneJson = io::readJsonFile(dir / "scene.json");
@@ -999,6 +1008,8 @@ int main(int argc, char** argv) {
             r.generateSeconds = gen;
             fs::create_directories(result.parent_path());
             io::writeJsonFile(result, toJson(r));
+          } catch (const Interrupted&) {
+            throw;
           } catch (const std::exception& e) {
             std::printf("FAILED %s (%s): %s\n", spec.name.c_str(), lighting.c_str(), e.what());
             ++failed;
@@ -1076,6 +1087,9 @@ int main(int argc, char** argv) {
       std::printf("CHECK FAILED: a number is not finite or a part is missing\n");
       return 1;
     }
+  } catch (const Interrupted& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 130;
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
