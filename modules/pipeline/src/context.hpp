@@ -16,6 +16,7 @@
 #include "photoscene/raytrace.hpp"
 #include "photoscene/render.hpp"
 #include "photoscene/scene.hpp"
+#include "photoscene/select/exemplar_bank.hpp"
 
 namespace ps::pipeline {
 
@@ -66,6 +67,7 @@ struct PartWork {
   // select
   std::string graph = "homogeneous", category = "homogeneous";
   std::vector<std::string> runnersUp;
+  std::vector<GraphVote> candidates;  ///< the kNN vote's top 5 (weight: share of the vote)
   // fit
   std::vector<float> values;
   UvParams uv;

@@ -137,6 +137,9 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       m.fitExtra["iterations"] = p.iterations;
       m.fitExtra["refine_loss"] = p.refineLoss;
       if (!p.runnersUp.empty()) m.fitExtra["runners_up"] = p.runnersUp;
+      for (const GraphVote& v : p.candidates)
+        m.fitExtra["candidates"].push_back(
+            {{"graph", v.graph}, {"category", v.category}, {"score", v.weight}, {"votes", v.count}});
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
       if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());
     } else {

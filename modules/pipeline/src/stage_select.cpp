@@ -18,7 +18,8 @@ class SelectStage : public Stage {
     decl.options = {"library", "work_width"};
     decl.after = {"parts", "geometry", "align", "observe"};
     decl.writes = {"PartWork::graph", "PartWork::category", "PartWork::runnersUp",
-                   "PartMode::Homogeneous"};
+                   "PartWork::candidates", "PartMode::Homogeneous"};
+    decl.version = 2;  // 2: the cached entry holds the vote's top 5 (materials fit.candidates)
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -30,6 +31,7 @@ class SelectStage : public Stage {
     const ViewWork& view = ctx.views[p.view];
     const Camera& camera = in.camera(p.view);
     p.runnersUp.clear();
+    p.candidates.clear();
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
     } else if (cv::countNonZero(view.photoMask.at(p.id)) <
@@ -52,6 +54,12 @@ class SelectStage : public Stage {
               : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat());
       p.graph = c.graph;
       for (size_t i = 1; i < c.votes.size() && i < 4; ++i) p.runnersUp.push_back(c.votes[i].graph);
+      // the top 5 with their share of the vote, for the materials file and the report
+      double total = 0;
+      for (const GraphVote& v : c.votes) total += v.weight;
+      for (size_t i = 0; i < c.votes.size() && i < 5; ++i)
+        p.candidates.push_back({c.votes[i].graph, c.votes[i].category,
+                                total > 0 ? c.votes[i].weight / total : 0, c.votes[i].count});
     }
     p.category = in.library().get(p.graph).category();
     if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
@@ -63,6 +71,13 @@ class SelectStage : public Stage {
     a.putString(p.category);
     a.put<int32_t>(static_cast<int32_t>(p.runnersUp.size()));
     for (const std::string& r : p.runnersUp) a.putString(r);
+    a.put<int32_t>(static_cast<int32_t>(p.candidates.size()));
+    for (const GraphVote& v : p.candidates) {
+      a.putString(v.graph);
+      a.putString(v.category);
+      a.put(v.weight);
+      a.put<int32_t>(v.count);
+    }
   }
   bool load(Context& ctx, const Reads&, int u, Archive& a) override {
     PartWork& p = ctx.parts[u];
@@ -71,6 +86,13 @@ class SelectStage : public Stage {
     const int n = a.get<int32_t>();
     p.runnersUp.clear();
     for (int i = 0; i < n; ++i) p.runnersUp.push_back(a.getString());
+    p.candidates.resize(a.get<int32_t>());
+    for (GraphVote& v : p.candidates) {
+      v.graph = a.getString();
+      v.category = a.getString();
+      v.weight = a.get<double>();
+      v.count = a.get<int32_t>();
+    }
     if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
     return true;
   }

@@ -3,4 +3,5 @@
 #pragma once
 
 #include "photoscene/eval/metrics.hpp"
+#include "photoscene/eval/texture_distance.hpp"
 #include "photoscene/eval/twin_evaluation.hpp"
