@@ -1,6 +1,7 @@
 #include "photoscene/features/texture_loss.hpp"
 
 #include "gabor_pyramid.hpp"
+#include "gradient_check.hpp"
 #include "ps_statistics.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
@@ -248,6 +249,12 @@ TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& targe
       analytic.push_back(grad.at<cv::Vec3f>(px)[ch]);
     }
   }
+  return summarizeGradientCheck(analytic, numeric, numeric2);
+}
+
+TextureLossGradientCheck summarizeGradientCheck(const std::vector<double>& analytic,
+                                                const std::vector<double>& numeric,
+                                                const std::vector<double>& numeric2) {
   TextureLossGradientCheck r;
   double maxNum = 0.0;
   for (size_t i = 0; i < numeric.size(); ++i) {

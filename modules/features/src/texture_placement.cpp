@@ -2,6 +2,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "gradient_check.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -155,21 +156,7 @@ TextureLossGradientCheck checkPlacementLossGradient(const PlacementLossTarget& t
       analytic.push_back(grad.at<cv::Vec3f>(px)[ch]);
     }
   }
-  TextureLossGradientCheck r;
-  double maxNum = 0.0;
-  for (size_t i = 0; i < numeric.size(); ++i) {
-    maxNum = std::max(maxNum, std::abs(numeric[i]));
-    r.noise = std::max(r.noise, std::abs(numeric[i] - numeric2[i]));
-  }
-  r.floor = std::max({1e-3 * maxNum, 2.0 * r.noise, 1e-12});
-  for (size_t i = 0; i < numeric.size(); ++i) {
-    const double e = std::abs(analytic[i] - numeric[i]);
-    r.maxAbsError = std::max(r.maxAbsError, e);
-    r.maxRelError = std::max(r.maxRelError,
-                             e / std::max({std::abs(analytic[i]), std::abs(numeric[i]), r.floor}));
-  }
-  r.checked = static_cast<int>(numeric.size());
-  return r;
+  return summarizeGradientCheck(analytic, numeric, numeric2);
 }
 
 }  // namespace ps

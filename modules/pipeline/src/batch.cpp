@@ -27,6 +27,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/io/files.hpp"
 #include "photoscene/io/json.hpp"
+#include "photoscene/report/report.hpp"
 
 extern char** environ;
 
@@ -285,28 +286,6 @@ std::string csvNumber(double v) {
   return std::isfinite(v) ? fmt::format("{:.6g}", v) : "";
 }
 
-std::string html(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        o += "&amp;";
-        break;
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      default:
-        o += c;
-    }
-  }
-  return o;
-}
 
 // The pipeline's stage order (pipeline.hpp); stages it does not list follow alphabetically.
 const std::vector<std::string> kStageOrder = {"geometry", "align",  "lights0", "incident0",
@@ -742,28 +721,28 @@ void writeSummary(const Batch& b, const std::vector<SceneRecord>& records) {
     const fs::path report = b.root / r.name / "report.html";
     std::error_code ec;
     const std::string logRel = ".batch/logs/" + r.name + ".log";
-    rows << "<tr class=\"" << statusName(r.status) << "\"><td>" << html(r.name) << "</td><td>"
+    rows << "<tr class=\"" << statusName(r.status) << "\"><td>" << escapeHtml(r.name) << "</td><td>"
          << statusName(r.status) << "</td><td>" << (r.exitCode ? std::to_string(*r.exitCode) : "")
          << "</td><td>" << (r.seconds > 0 ? fmt::format("{:.1f}", r.seconds) : "") << "</td>";
     for (size_t k = 0; k < 3; ++k) rows << "<td>" << values[k] << "</td>";
     rows << "<td>" << values[3] << "</td><td>" << values[5] << "</td><td>";
     if (fs::exists(report, ec))
-      rows << "<a href=\"" << html(r.name) << "/report.html\">report</a> ";
-    if (fs::exists(b.root / logRel, ec)) rows << "<a href=\"" << html(logRel) << "\">log</a>";
-    rows << "</td><td>" << html(r.error) << "</td></tr>\n";
+      rows << "<a href=\"" << escapeHtml(r.name) << "/report.html\">report</a> ";
+    if (fs::exists(b.root / logRel, ec)) rows << "<a href=\"" << escapeHtml(logRel) << "\">log</a>";
+    rows << "</td><td>" << escapeHtml(r.error) << "</td></tr>\n";
   }
   io::writeTextFile(b.root / "summary.csv", csv.str());
 
   std::ostringstream page;
   page << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>photoscene batch: "
-       << html(b.root.filename().string()) << "</title>\n<style>"
+       << escapeHtml(b.root.filename().string()) << "</title>\n<style>"
        << "body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}"
        << "td,th{border:1px solid #ccc;padding:4px 8px;text-align:left}"
        << "tr.done td:nth-child(2){color:#080}tr.failed td:nth-child(2),tr.bad-input "
           "td:nth-child(2){color:#b00}"
        << "tr.pending td:nth-child(2),tr.running td:nth-child(2){color:#a60}</style></head><body>\n"
        << "<h1>photoscene batch</h1>\n<p>" << records.size() << " scenes from <code>"
-       << html(b.manifest.string()) << "</code>: " << counts[static_cast<int>(Status::Done)]
+       << escapeHtml(b.manifest.string()) << "</code>: " << counts[static_cast<int>(Status::Done)]
        << " done, " << counts[static_cast<int>(Status::Failed)] << " failed, "
        << counts[static_cast<int>(Status::BadInput)] << " bad input, "
        << counts[static_cast<int>(Status::Running)] << " running, "

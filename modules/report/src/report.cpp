@@ -28,11 +28,8 @@ namespace ps {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-
-// ---------------------------------------------------------------- small helpers
-
-std::string html(const std::string& s) {
+/// & < > " ' as HTML entities (text and attribute values).
+std::string escapeHtml(const std::string& s) {
   std::string o;
   o.reserve(s.size());
   for (char c : s) {
@@ -58,6 +55,12 @@ std::string html(const std::string& s) {
   }
   return o;
 }
+
+namespace {
+
+// ---------------------------------------------------------------- small helpers
+
+std::string html(const std::string& s) { return escapeHtml(s); }
 
 /// A relative URL (from outDir) of a file, '/'-separated and percent-encoded.
 std::string urlFor(const fs::path& file, const fs::path& outDir) {

@@ -62,4 +62,8 @@ ReportSummary writeReport(const std::filesystem::path& outDir, const ReportOptio
 /// none.
 std::filesystem::path defaultViewerDir();
 
+/// `s` with & < > " ' replaced by their HTML entities: safe as element text and as a quoted
+/// attribute value.
+std::string escapeHtml(const std::string& s);
+
 }  // namespace ps
