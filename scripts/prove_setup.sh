@@ -56,7 +56,7 @@ fi
 
 # Nothing may be mounted in an old root before it is removed.
 if [ -d "$ROOT" ]; then
-  for m in dev/shm dev/pts dev sys proc; do mountpoint -q "$ROOT/$m" && umount -l "$ROOT/$m"; done
+  for m in dev/shm dev/pts dev sys/fs/cgroup sys proc; do mountpoint -q "$ROOT/$m" && umount -l "$ROOT/$m"; done
   rm -rf --one-file-system "$ROOT"
 fi
 mkdir -p "$ROOT"
@@ -95,6 +95,10 @@ done < <(env)
 
 mount -t proc proc "$ROOT/proc" && MOUNTS+=("$ROOT/proc")
 mount -t sysfs sysfs "$ROOT/sys" && MOUNTS+=("$ROOT/sys")
+# A booted Debian has its cgroup hierarchy mounted (slurmd refuses to start without one).
+if mountpoint -q /sys/fs/cgroup; then
+  mount --bind /sys/fs/cgroup "$ROOT/sys/fs/cgroup" && MOUNTS+=("$ROOT/sys/fs/cgroup")
+fi
 mount --bind /dev "$ROOT/dev" && MOUNTS+=("$ROOT/dev")
 mount --bind /dev/pts "$ROOT/dev/pts" && MOUNTS+=("$ROOT/dev/pts")
 mount -t tmpfs -o size=2g shm "$ROOT/dev/shm" && MOUNTS+=("$ROOT/dev/shm")

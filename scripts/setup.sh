@@ -20,6 +20,7 @@ PACKAGES=(
   libbenchmark-dev                      # micro benchmarks
   nodejs                                # report viewer: three.js vendored and bundled at build time
   clang libclang-rt-14-dev              # sanitizer build (scripts/sanitize.sh) and libFuzzer targets
+  llvm                                  # llvm-symbolizer: LSan suppressions (tests/fuzz/lsan.supp) match symbolized frames only
   slurm-wlm munge                       # tests/slurm: photoscene batch --slurm against a real one-node Slurm
 )
 # Optional: installed when the distribution has it, never failing the setup (the headless-browser
