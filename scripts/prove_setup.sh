@@ -43,7 +43,9 @@ say() { echo "[prove_setup] $*"; }
 MOUNTS=()
 cleanup() {
   local i
-  for ((i = ${#MOUNTS[@]} - 1; i >= 0; i--)); do umount "${MOUNTS[i]}" 2>/dev/null || umount -l "${MOUNTS[i]}" || true; done
+  for ((i = ${#MOUNTS[@]} - 1; i >= 0; i--)); do
+    umount -R "${MOUNTS[i]}" 2>/dev/null || umount -R -l "${MOUNTS[i]}" || true
+  done
   if [ "$KEEP" -eq 0 ] && [ -d "$ROOT" ]; then rm -rf --one-file-system "$ROOT"; fi
 }
 trap cleanup EXIT
@@ -56,7 +58,7 @@ fi
 
 # Nothing may be mounted in an old root before it is removed.
 if [ -d "$ROOT" ]; then
-  for m in dev/shm dev/pts dev sys/fs/cgroup sys proc; do mountpoint -q "$ROOT/$m" && umount -l "$ROOT/$m"; done
+  for m in dev/shm dev/pts dev sys/fs/cgroup sys proc; do mountpoint -q "$ROOT/$m" && umount -R -l "$ROOT/$m"; done
   rm -rf --one-file-system "$ROOT"
 fi
 mkdir -p "$ROOT"
@@ -97,7 +99,10 @@ mount -t proc proc "$ROOT/proc" && MOUNTS+=("$ROOT/proc")
 mount -t sysfs sysfs "$ROOT/sys" && MOUNTS+=("$ROOT/sys")
 # A booted Debian has its cgroup hierarchy mounted (slurmd refuses to start without one).
 if mountpoint -q /sys/fs/cgroup; then
-  mount --bind /sys/fs/cgroup "$ROOT/sys/fs/cgroup" && MOUNTS+=("$ROOT/sys/fs/cgroup")
+  # recursively (a cgroup v1 machine has one mount per controller below it), and slave so that
+  # unmounting the root's copy never unmounts the machine's
+  mount --rbind /sys/fs/cgroup "$ROOT/sys/fs/cgroup" && mount --make-rslave "$ROOT/sys/fs/cgroup" &&
+    MOUNTS+=("$ROOT/sys/fs/cgroup")
 fi
 mount --bind /dev "$ROOT/dev" && MOUNTS+=("$ROOT/dev")
 mount --bind /dev/pts "$ROOT/dev/pts" && MOUNTS+=("$ROOT/dev/pts")
