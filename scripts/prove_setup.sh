@@ -2,7 +2,7 @@
 # Proves the README's two commands on a bare Debian 12: makes a fresh Debian 12 root with
 # debootstrap (minbase), copies a clean clone of this repository's HEAD into it, and runs
 # `bash scripts/demo.sh` and then `bash scripts/test.sh` inside it with chroot, printing the time
-# of each. Not part of CI (it takes about half an hour on 2 cores); run it whenever setup.sh, the
+# of each. Not part of CI (about 18 minutes on 2 cores with --with-shared); run it whenever setup.sh, the
 # build or a dependency changes. Needs root and Debian's package registry.
 #
 #   bash scripts/prove_setup.sh [--root DIR] [--keep] [--with-shared] [--only demo|test]
