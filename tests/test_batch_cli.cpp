@@ -16,6 +16,7 @@
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
+#include "cli_run.hpp"
 
 namespace ps {
 namespace {
@@ -23,29 +24,9 @@ namespace {
 namespace fs = std::filesystem;
 using io::TempDir;
 
-// Every run shares the exemplar-bank cache of the build tree (as tests/test_cli.cpp).
-const int kCacheEnv = setenv("PS_CACHE_DIR", PS_BINARY_DIR "/photoscene-cache", 0);
-
-struct Result {
-  int exitCode = -1;
-  std::string output;  // stdout + stderr
-};
-
-Result runPhotoscene(const std::string& args) {
-  const std::string cmd = std::string(PHOTOSCENE_BIN) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using cli_test::contains;
+using cli_test::Result;
+using cli_test::runPhotoscene;
 
 /// A small valid scene in `dir`: a 4 x 2.5 x 3 m room, one 32 x 24 photo, the walls labelled
 /// (the scene of tests/test_cli.cpp's CliScene).

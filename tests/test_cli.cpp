@@ -17,6 +17,7 @@
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
+#include "cli_run.hpp"
 
 namespace ps {
 namespace {
@@ -24,27 +25,9 @@ namespace {
 namespace fs = std::filesystem;
 using io::TempDir;
 
-struct Result {
-  int exitCode = -1;
-  std::string output;  // stdout + stderr
-};
-
-// Every run shares the exemplar-bank cache of the build tree (built once, by whichever test is first).
-const int kCacheEnv = setenv("PS_CACHE_DIR", PS_BINARY_DIR "/photoscene-cache", 0);
-
-Result runPhotoscene(const std::string& args) {
-  const std::string cmd = std::string(PHOTOSCENE_BIN) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using cli_test::contains;
+using cli_test::Result;
+using cli_test::runPhotoscene;
 
 Mat4d lookAt(const Vec3d& eye, const Vec3d& target) { return io::lookAtWorldToCamera(eye, target); }
 
@@ -446,7 +429,9 @@ TEST(Cli_Robustness, killed_at_several_stages_leaves_whole_files_and_each_rerun_
     const int code = waitExitCode(pid);
     const std::string text = readText(log);
     EXPECT_EQ(code, st.exitCode) << st.what << "\n" << text;
-    if (!st.signal) EXPECT_TRUE(contains(text, "PS_FAIL_AT_STAGE=" + st.stage)) << text;
+    if (!st.signal) {
+      EXPECT_TRUE(contains(text, "PS_FAIL_AT_STAGE=" + st.stage)) << text;
+    }
     for (const std::string& stage : st.loaded)
       EXPECT_EQ(computedIn(text, stage), 0) << st.what << ": " << stage << "\n" << text;
     for (const std::string& stage : st.computed)
