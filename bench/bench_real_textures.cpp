@@ -50,6 +50,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -280,6 +281,7 @@ struct Options {
   std::string preset = "fast";
   int threads = 2, width = 320, height = 240, spp = 32, textureSize = 64;
   std::vector<std::string> lightings = {"warm", "window"};
+  std::optional<SynthesisOptions> selection;  ///< the preset's when unset
 };
 
 /// Light through a window converges slower than a ceiling rectangle: twice the samples, so both
@@ -633,6 +635,7 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
   p.renderSpp = sppFor(o, lighting);
   p.writeReport = false;
   p.writeGltf = false;
+  p.selection = o.selection;
   return p;
 }
 
@@ -921,6 +924,14 @@ int main(int argc, char** argv) {
   app.add_option("--lightings", lightingsArg, "comma list of warm, window");
   app.add_option("--preset", o.preset, "pipeline preset of the method");
   app.add_option("--threads", o.threads, "threads (0 = all cores)");
+  // selection by synthesis (select/synthesis.hpp), for the accuracy-against-time sweep: any of
+  // these replaces the preset's settings by SynthesisOptions' defaults plus the ones given
+  SynthesisOptions synthesis;
+  app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
+  app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
+  app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
+  app.add_option("--select-vote-k", synthesis.voteK, "neighbours of the vote listing finalists");
+  app.add_option("--select-margin", synthesis.textureMargin, "a graph beats homogeneous by this");
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
   app.add_option("--spp", o.spp,
@@ -940,6 +951,9 @@ int main(int argc, char** argv) {
                "report only the cases whose results are cached (run nothing)");
   CLI11_PARSE(app, argc, argv);
   o.lightings = splitList(lightingsArg);
+  for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
+                           "--select-vote-k", "--select-margin"})
+    if (app.count(flag) > 0) o.selection = synthesis;
 
   if (!fs::exists(o.data / "textures/cc0/manifest.json")) {
     std::printf("SKIP: no %s\n", (o.data / "textures/cc0/manifest.json").string().c_str());

@@ -13,6 +13,7 @@
 #include "photoscene/optim.hpp"
 #include "photoscene/pipeline/pipeline.hpp"
 #include "photoscene/pipeline/stage_cache.hpp"
+#include "photoscene/select/synthesis.hpp"
 #include "photoscene/raytrace.hpp"
 #include "photoscene/render.hpp"
 #include "photoscene/scene.hpp"
@@ -27,6 +28,7 @@ struct PresetBudget {
   int incidentStride = 8;
   int renderSpp = 64;        ///< final renders
   int refineCandidates = 7;  ///< roughness values tried in the second round
+  SynthesisOptions synthesis;  ///< selection by synthesis (the vote's finalists fitted briefly)
   static PresetBudget of(const std::string& preset);
 };
 
@@ -68,6 +70,11 @@ struct PartWork {
   std::string graph = "homogeneous", category = "homogeneous";
   std::vector<std::string> runnersUp;
   std::vector<GraphVote> candidates;  ///< the kNN vote's top 5 (weight: share of the vote)
+  struct Finalist {
+    std::string graph, category;
+    double vote = 0, loss = 0, seconds = 0;
+  };
+  std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first
   // fit
   std::vector<float> values;
   UvParams uv;

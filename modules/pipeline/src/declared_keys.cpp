@@ -105,6 +105,19 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
     h.add(o.renderSpp.value_or(-1));
   else if (name == "max_fit_iterations")
     h.add(o.maxFitIterations.value_or(-1));
+  else if (name == "selection")
+    if (o.selection) {
+      const SynthesisOptions& s = *o.selection;
+      h.add(1)
+          .add(s.shortlist)
+          .add(s.categories)
+          .add(s.steps)
+          .add(s.voteK)
+          .add(s.homogeneous)
+          .add(s.textureMargin);
+    } else {
+      h.add(0);
+    }
   else if (name == "baseline")
     h.add(static_cast<int>(o.baseline));
   else if (name == "write_gltf")

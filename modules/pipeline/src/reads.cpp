@@ -12,8 +12,8 @@ namespace ps::pipeline {
 
 const std::vector<std::string>& optionNames() {
   static const std::vector<std::string> names = {
-      "preset",   "texture_size", "work_width", "mean_albedo", "render_spp", "max_fit_iterations",
-      "baseline", "write_gltf",   "library",    "ground_truth"};
+      "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "max_fit_iterations",
+      "baseline", "write_gltf",   "library",    "ground_truth", "selection"};
   return names;
 }
 
@@ -173,6 +173,12 @@ int Reads::renderSpp() const {
 const PartFitOptions& Reads::fitOptions() const {
   needOption("preset");
   return ctx_.in_.fitOptions;
+}
+
+SynthesisOptions Reads::synthesisOptions() const {
+  needOption("preset");
+  needOption("selection");
+  return ctx_.in_.options.selection.value_or(ctx_.in_.budget.synthesis);
 }
 
 std::optional<int> Reads::maxFitIterations() const {

@@ -48,12 +48,18 @@ PresetBudget PresetBudget::of(const std::string& preset) {
     b.incidentStride = 8;
     b.renderSpp = 32;
     b.refineCandidates = 5;
+    b.synthesis.shortlist = 2;
+    b.synthesis.categories = 2;
+    b.synthesis.steps = 8;
   } else if (preset == "paper") {
     b.lightSpp = 64;
     b.incidentSamples = 16;
     b.incidentStride = 4;
     b.renderSpp = 256;
     b.refineCandidates = 9;
+    b.synthesis.shortlist = 5;
+    b.synthesis.categories = 4;
+    b.synthesis.steps = 30;
   }
   return b;
 }

@@ -56,6 +56,7 @@ struct StageDecl {
 ///   mean_albedo       the scale pin
 ///   render_spp        PipelineOptions::renderSpp (when set)
 ///   max_fit_iterations
+///   selection         PipelineOptions::selection (when set)
 ///   baseline          --baseline
 ///   write_gltf        PipelineOptions::writeGltf
 ///   library           the graph library's content (and the exemplar bank's format)
@@ -94,6 +95,7 @@ class Reads {
   const PresetBudget& budget() const;        ///< preset (its renderSpp: use renderSpp())
   int renderSpp() const;                     ///< preset, render_spp
   const PartFitOptions& fitOptions() const;  ///< preset
+  SynthesisOptions synthesisOptions() const;  ///< preset, selection
   std::optional<int> maxFitIterations() const;
   int textureSize() const;
   double meanAlbedo() const;

@@ -140,6 +140,12 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       for (const GraphVote& v : p.candidates)
         m.fitExtra["candidates"].push_back(
             {{"graph", v.graph}, {"category", v.category}, {"score", v.weight}, {"votes", v.count}});
+      for (const PartWork::Finalist& f : p.finalists)
+        m.fitExtra["finalists"].push_back({{"graph", f.graph},
+                                           {"category", f.category},
+                                           {"vote", f.vote},
+                                           {"loss", f.loss},
+                                           {"seconds", f.seconds}});
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
       if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());
     } else {

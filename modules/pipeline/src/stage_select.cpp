@@ -1,5 +1,6 @@
 // Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), homogeneous
-// below the small-part threshold, else the kNN vote over the exemplar bank (select module).
+// below the small-part threshold, else the kNN vote over the exemplar bank shortlists and the
+// shortlist's short fits on the part under incident0 decide (select/synthesis.hpp).
 #include <spdlog/spdlog.h>
 
 #include "photoscene/select.hpp"
@@ -14,12 +15,15 @@ class SelectStage : public Stage {
   SelectStage() {
     decl.name = "select";
     decl.unit = Unit::Part;
-    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space"};
-    decl.options = {"library", "work_width"};
-    decl.after = {"parts", "geometry", "align", "observe"};
-    decl.writes = {"PartWork::graph", "PartWork::category", "PartWork::runnersUp",
-                   "PartWork::candidates", "PartMode::Homogeneous"};
-    decl.version = 2;  // 2: the cached entry holds the vote's top 5 (materials fit.candidates)
+    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
+                  "options.seed"};
+    decl.options = {"library", "work_width", "preset", "selection"};
+    decl.after = {"parts", "geometry", "align", "observe", "incident0"};
+    decl.writes = {"PartWork::graph",      "PartWork::category",  "PartWork::runnersUp",
+                   "PartWork::candidates", "PartWork::finalists", "PartMode::Homogeneous"};
+    // 2: the cached entry holds the vote's top 5 (materials fit.candidates); 3: selection by
+    // synthesis (fit.finalists)
+    decl.version = 3;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -32,6 +36,7 @@ class SelectStage : public Stage {
     const Camera& camera = in.camera(p.view);
     p.runnersUp.clear();
     p.candidates.clear();
+    p.finalists.clear();
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
     } else if (cv::countNonZero(view.photoMask.at(p.id)) <
@@ -48,11 +53,32 @@ class SelectStage : public Stage {
       // it into texture space and removes smooth shading before the kNN vote
       const cv::Mat& photo = in.photo(p.view);
       const cv::Mat& fit = view.fitMask.at(p.id);
+      const SynthesisOptions synthesis = in.synthesisOptions();
+      PartSelectionOptions so;
+      if (synthesis.shortlist > 0 || synthesis.categories > 0) so.k = synthesis.voteK;
       const GraphChoice c =
           cv::countNonZero(fit) > 0
-              ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv)
-              : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat());
+              ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv, cv::Mat(),
+                              so)
+              : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat(), cv::Mat(), so);
       p.graph = c.graph;
+      if ((synthesis.shortlist > 0 || synthesis.categories > 0) && cv::countNonZero(fit) > 0) {
+        // the vote shortlists; short fits on the part itself decide (and texture or not)
+        const cv::Mat part = partPhoto(photo, view, p.id);
+        const PartGeometry geo = preparePartGeometry(view.gbuffer, camera.position().cast<float>(),
+                                                     view.grid, fit, p.id);
+        if (geo.size() >= 16) {
+          PartFitOptions o = in.fitOptions();
+          o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
+          const SynthesisChoice s = chooseBySynthesis(in.library(), c.votes, geo, part,
+                                                      TextureLossTarget(part, fit), o, synthesis);
+          if (!s.graph.empty()) p.graph = s.graph;
+          for (const SynthesisFinalist& f : s.finalists)
+            p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds});
+          spdlog::info("select {}: {} of {} finalists by synthesis ({:.1f} s)", p.name, p.graph,
+                       s.finalists.size(), s.seconds);
+        }
+      }
       for (size_t i = 1; i < c.votes.size() && i < 4; ++i) p.runnersUp.push_back(c.votes[i].graph);
       // the top 5 with their share of the vote, for the materials file and the report
       double total = 0;
@@ -78,6 +104,12 @@ class SelectStage : public Stage {
       a.put(v.weight);
       a.put<int32_t>(v.count);
     }
+    a.put<int32_t>(static_cast<int32_t>(p.finalists.size()));
+    for (const PartWork::Finalist& f : p.finalists) {
+      a.putString(f.graph);
+      a.putString(f.category);
+      for (double x : {f.vote, f.loss, f.seconds}) a.put(x);
+    }
   }
   bool load(Context& ctx, const Reads&, int u, Archive& a) override {
     PartWork& p = ctx.parts[u];
@@ -92,6 +124,14 @@ class SelectStage : public Stage {
       v.category = a.getString();
       v.weight = a.get<double>();
       v.count = a.get<int32_t>();
+    }
+    p.finalists.resize(a.get<int32_t>());
+    for (PartWork::Finalist& f : p.finalists) {
+      f.graph = a.getString();
+      f.category = a.getString();
+      f.vote = a.get<double>();
+      f.loss = a.get<double>();
+      f.seconds = a.get<double>();
     }
     if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
     return true;

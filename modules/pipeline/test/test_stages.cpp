@@ -260,6 +260,10 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
        [](RunInputs& i, bool on) {
          i.options.maxFitIterations = on ? std::optional<int>(3) : std::nullopt;
        }},
+      {"selection",
+       [](RunInputs& i, bool on) {
+         i.options.selection = on ? std::optional<SynthesisOptions>(SynthesisOptions{}) : std::nullopt;
+       }},
       {"baseline",
        [](RunInputs& i, bool on) {
          i.options.baseline = on ? Baseline::PixelMedian : Baseline::None;
@@ -475,9 +479,11 @@ TEST_F(StaleCache, an_edited_fixed_material_recomputes_the_lights_and_the_grids)
   const PipelineResult r = run(j);
   EXPECT_EQ(r.stage("geometry")->computed, 0);
   EXPECT_EQ(r.stage("align")->computed, 0);
-  EXPECT_EQ(r.stage("select")->computed, 0);  // selection reads no material
   EXPECT_EQ(r.stage("lights0")->computed, 1);
   EXPECT_EQ(r.stage("incident0")->computed, 1);
+  // selection by synthesis fits its finalists under incident0: new grids, a new selection
+  EXPECT_EQ(r.stage("select")->computed, base_->stage("select")->computed);
+  EXPECT_GT(r.stage("select")->computed, 0);
   // a darker fixed part explains less of the photo: the lights come out otherwise
   ASSERT_EQ(r.lightRadiance.size(), base_->lightRadiance.size());
   double diff = 0;

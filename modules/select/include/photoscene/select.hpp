@@ -5,3 +5,4 @@
 #include "photoscene/select/knn_index.hpp"
 #include "photoscene/select/evaluation.hpp"
 #include "photoscene/select/part_selection.hpp"
+#include "photoscene/select/synthesis.hpp"

@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "photoscene/select/synthesis.hpp"
 #include "photoscene/core/math.hpp"
 
 namespace ps {
@@ -60,6 +61,9 @@ struct PipelineOptions {
   double meanAlbedo = 0.5;                   ///< the scale pin (see above)
   std::optional<int> renderSpp;              ///< final renders; default by preset
   std::optional<int> maxFitIterations;       ///< caps the per-part iterations (tests)
+  /// Selection by synthesis (select/synthesis.hpp): how many of the kNN vote's graphs are fitted
+  /// briefly on the part, and how; default by preset.
+  std::optional<SynthesisOptions> selection;
   bool writeReport = true;
   bool writeGltf = true;
 };

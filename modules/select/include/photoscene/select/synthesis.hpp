@@ -1,0 +1,73 @@
+// Selection by synthesis: the kNN vote's finalists rendered on the part itself and compared with
+// the photo's own pixels (the paper's section 3.3 renders its exemplars on the part; this goes one
+// step further and fits each finalist briefly, analysis by synthesis).
+//
+// The bank's vote (ExemplarBank::select) is fast but judges a graph by how its draws *usually*
+// look; a photographed material is one particular look that a graph may reach only with
+// parameters its random draws rarely visit. So the vote only shortlists: its `shortlist` best
+// graphs, plus the best-voted graph of each further category until `categories` categories are in,
+// plus the homogeneous material. Each finalist gets a short fit (optim's fitPart with `steps` Adam
+// steps, its UV search and spectral prior included: the same render layer, incident light, Eq. 1
+// warp and loss as the real fit) and the finalist with the lowest loss wins.
+//
+// Texture only where the photo shows one (model selection): the homogeneous material has 4 free
+// values, a graph a dozen or more, so a graph must lower the loss below the homogeneous one's by
+// the factor (1 - textureMargin) to be chosen; a part whose pixels are flat, blurred or noise
+// stays homogeneous.
+//
+//   ps::SynthesisChoice c = ps::chooseBySynthesis(lib, vote.votes, geo, photo, target,
+//                                                 ps::PartFitOptions::preset("balanced"), {});
+//   c.graph;        // the winner; c.finalists: every finalist's loss, best first
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "photoscene/graph/graph_library.hpp"
+#include "photoscene/optim/part_fit.hpp"
+#include "photoscene/select/exemplar_bank.hpp"
+
+namespace ps {
+
+struct SynthesisOptions {
+  int shortlist = 3;        ///< the vote's best graphs that are fitted (0: selection by vote alone)
+  int categories = 3;       ///< add the best graph of further categories until this many are in
+  int steps = 12;           ///< Adam steps of each finalist's short fit
+  int voteK = 60;           ///< neighbours in the vote that lists the finalists (a longer list)
+  bool homogeneous = true;  ///< the homogeneous material is a finalist (model selection)
+  double textureMargin = 0.05;  ///< a graph must beat the homogeneous loss by this fraction
+  bool IsValid(std::string* error) const;
+};
+
+struct SynthesisFinalist {
+  std::string graph, category;
+  double vote = 0;     ///< share of the kNN vote (0: added for its category or as homogeneous)
+  double loss = 0;     ///< fit loss after the short fit
+  double seconds = 0;  ///< of the short fit
+  PartFitResult fit;   ///< the short fit (values, UV, roughness: a warm start for the real fit)
+};
+
+struct SynthesisChoice {
+  std::string graph, category;
+  std::vector<SynthesisFinalist> finalists;  ///< sorted by loss, lowest first
+  double seconds = 0;                        ///< all short fits (wall clock)
+};
+
+/// The finalists named above, in vote order (no duplicates; graphs the library lacks skipped).
+std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
+                                            const std::vector<GraphVote>& votes,
+                                            const SynthesisOptions& options);
+
+/// Fits every finalist briefly to the part and picks by loss (homogeneous unless a graph beats it
+/// by the margin). Deterministic for fit.seed; finalists run in parallel.
+/// @param votes  the kNN vote, largest weight first (GraphChoice::votes)
+/// @param geometry, photo, target as ps::fitPart
+/// @param fit    the real fit's options (its maxIterations is replaced by options.steps)
+SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector<GraphVote>& votes,
+                                  const PartGeometry& geometry, const cv::Mat& photo,
+                                  const TextureLossTarget& target, const PartFitOptions& fit,
+                                  const SynthesisOptions& options = {});
+
+}  // namespace ps

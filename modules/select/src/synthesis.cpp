@@ -1,0 +1,135 @@
+#include "photoscene/select/synthesis.hpp"
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+
+#include "photoscene/core/error.hpp"
+#include "photoscene/core/parallel.hpp"
+#include "photoscene/core/timer.hpp"
+#include "photoscene/optim/homogeneous_fit.hpp"
+
+namespace ps {
+
+namespace {
+constexpr const char* kHomogeneous = "homogeneous";
+}
+
+bool SynthesisOptions::IsValid(std::string* error) const {
+  std::ostringstream os;
+  if (shortlist < 0)
+    os << "shortlist must be >= 0, got " << shortlist;
+  else if (categories < 0)
+    os << "categories must be >= 0, got " << categories;
+  else if (voteK < 1)
+    os << "voteK must be >= 1, got " << voteK;
+  else if (steps < 0)
+    os << "steps must be >= 0, got " << steps;
+  else if (!(textureMargin >= 0 && textureMargin < 1))
+    os << "textureMargin must be in [0, 1), got " << textureMargin;
+  if (error) *error = os.str();
+  return os.str().empty();
+}
+
+std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
+                                            const std::vector<GraphVote>& votes,
+                                            const SynthesisOptions& options) {
+  std::vector<std::string> out;
+  std::set<std::string> categories;
+  auto usable = [&](const GraphVote& v) {
+    return v.graph != kHomogeneous && library.contains(v.graph) &&
+           std::find(out.begin(), out.end(), v.graph) == out.end();
+  };
+  for (const GraphVote& v : votes) {
+    if (static_cast<int>(out.size()) >= options.shortlist) break;
+    if (!usable(v)) continue;
+    out.push_back(v.graph);
+    categories.insert(library.get(v.graph).category());
+  }
+  // category diversity: the vote's best graph of each category not yet in
+  for (const GraphVote& v : votes) {
+    if (static_cast<int>(categories.size()) >= options.categories) break;
+    if (!usable(v)) continue;
+    const std::string c = library.get(v.graph).category();
+    if (categories.count(c)) continue;
+    out.push_back(v.graph);
+    categories.insert(c);
+  }
+  if (options.homogeneous && library.contains(kHomogeneous)) out.push_back(kHomogeneous);
+  return out;
+}
+
+SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector<GraphVote>& votes,
+                                  const PartGeometry& geometry, const cv::Mat& photo,
+                                  const TextureLossTarget& target, const PartFitOptions& fit,
+                                  const SynthesisOptions& options) {
+  std::string why;
+  PS_Check(options.IsValid(&why), "invalid SynthesisOptions: " << why);
+  const Timer timer;
+  const std::vector<std::string> names = synthesisFinalists(library, votes, options);
+  SynthesisChoice out;
+  out.finalists.resize(names.size());
+  double total = 0;
+  for (const GraphVote& v : votes) total += v.weight;
+  for (size_t i = 0; i < names.size(); ++i) {
+    SynthesisFinalist& f = out.finalists[i];
+    f.graph = names[i];
+    f.category = library.get(names[i]).category();
+    for (const GraphVote& v : votes)
+      if (v.graph == f.graph && total > 0) f.vote = v.weight / total;
+  }
+  parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
+    SynthesisFinalist& f = out.finalists[i];
+    PartFitOptions o = fit;
+    o.maxIterations = options.steps;
+    o.fineIterations = std::min(o.fineIterations, options.steps / 3);
+    o.restarts = 0;
+    MaterialGraph graph = library.create(f.graph);
+    if (f.graph == kHomogeneous) {
+      // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
+      // the best of 5 roughness values), then scored by the same loss without steps; nothing to
+      // place: no UV search, no spectral prior
+      const HomogeneousFit h = fitHomogeneous(geometry, photo, roughnessGrid(5));
+      graph.setParameter("albedo", {h.albedo.x(), h.albedo.y(), h.albedo.z()});
+      graph.setParameter("roughness", {h.roughness});
+      o.maxIterations = 0;
+      o.searchRotations = o.searchLogScales = o.searchOffsets = 1;
+      o.refineSteps = 0;
+      o.spectrumScaleWindow = 0;
+      o.placementOffsets = 0;
+    }
+    const Timer t;
+    f.fit = fitPart(graph, geometry, photo, target, o);
+    f.loss = f.fit.loss;
+    f.seconds = t.seconds();
+  });
+  std::stable_sort(
+      out.finalists.begin(), out.finalists.end(),
+      [](const SynthesisFinalist& a, const SynthesisFinalist& b) { return a.loss < b.loss; });
+  // the winner: the best textured finalist unless the homogeneous material is within the margin
+  const auto homogeneous =
+      std::find_if(out.finalists.begin(), out.finalists.end(),
+                   [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
+  const auto textured =
+      std::find_if(out.finalists.begin(), out.finalists.end(),
+                   [](const SynthesisFinalist& f) { return f.graph != kHomogeneous; });
+  const SynthesisFinalist* win = nullptr;
+  if (textured == out.finalists.end())
+    win = homogeneous == out.finalists.end() ? nullptr : &*homogeneous;
+  else if (homogeneous == out.finalists.end() ||
+           textured->loss < (1 - options.textureMargin) * homogeneous->loss)
+    win = &*textured;
+  else
+    win = &*homogeneous;
+  if (win) {
+    out.graph = win->graph;
+    out.category = win->category;
+  } else if (!votes.empty()) {
+    out.graph = votes.front().graph;
+    out.category = votes.front().category;
+  }
+  out.seconds = timer.seconds();
+  return out;
+}
+
+}  // namespace ps

@@ -1,0 +1,150 @@
+// Selection by synthesis: the finalists it fits, a wrong vote corrected by the short fits on a
+// path-traced part, and a flat part kept homogeneous (model selection).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "photoscene/graph.hpp"
+#include "photoscene/optim.hpp"
+#include "photoscene/select/synthesis.hpp"
+// the in-memory room of the render module's tests (test-only code, shared rather than copied)
+#include "../../render/test/synthetic_room.hpp"
+
+namespace ps {
+namespace {
+
+using namespace testroom;
+
+GraphVote vote(const std::string& graph, const std::string& category, double weight) {
+  GraphVote v;
+  v.graph = graph;
+  v.category = category;
+  v.weight = weight;
+  v.count = 1;
+  return v;
+}
+
+TEST(Select_Synthesis, finalists_are_the_shortlist_then_new_categories_then_homogeneous) {
+  const GraphLibrary lib = GraphLibrary::load();
+  const std::vector<GraphVote> votes = {
+      vote("tile_checker", "tile", 5),       vote("tile_subway", "tile", 4),
+      vote("homogeneous", "homogeneous", 3), vote("tile_mosaic", "tile", 2),
+      vote("wood_planks", "wood", 1.5),      vote("no_such_graph", "wood", 1.2),
+      vote("fabric_twill", "fabric", 1),     vote("stone_slate", "stone", 0.5)};
+  SynthesisOptions o;
+  o.shortlist = 2;
+  o.categories = 3;
+  EXPECT_EQ(synthesisFinalists(lib, votes, o),
+            (std::vector<std::string>{"tile_checker", "tile_subway", "wood_planks", "fabric_twill",
+                                      "homogeneous"}));
+  o.homogeneous = false;
+  o.shortlist = 0;
+  o.categories = 0;
+  EXPECT_TRUE(synthesisFinalists(lib, votes, o).empty());
+  o.shortlist = 10;  // every usable graph once, the unknown one and homogeneous left out
+  EXPECT_EQ(synthesisFinalists(lib, votes, o).size(), 6u);
+  std::string why;
+  o.textureMargin = 1.0;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("textureMargin"), std::string::npos);
+}
+
+struct Part {
+  Room room;
+  cv::Mat photo;
+  testroom::View view;
+  PartGeometry geo;
+  cv::Mat mask;
+};
+
+/// The synthetic room's floor wearing `maps` (empty: a plain grey-brown albedo), path-traced.
+Part renderFloor(const MaterialMaps* maps) {
+  Part s;
+  s.room = makeRoom(96, 72);
+  std::vector<PartMaterial> mats = {lambert("floor", 0.45f), lambert("walls", 0.7f),
+                                    lambert("ceiling", 0.8f), lambert("box", 0.6f)};
+  PartMaterial& m = mats[s.room.floor];
+  if (maps) {
+    m.albedoMap = FloatTexture(maps->albedo);
+    m.normalMap = FloatTexture(maps->normal);
+    m.roughnessMap = FloatTexture(maps->roughness);
+  } else {
+    m.albedo = Vec3f(0.5f, 0.38f, 0.3f);
+    m.roughness = 0.7f;
+  }
+  m.specular = 0.5f;
+  const PathTracer tracer(s.room.scene, mats);
+  RenderOptions ro;
+  ro.spp = 24;
+  ro.seed = 5;
+  ro.filter = PixelFilter::Box;
+  ro.filterWidth = 1.0f;
+  s.photo = tracer.render(s.room.camera, ro);
+  s.view = prepareView(tracer, s.room.camera, 8, 2, 9);
+  s.mask = s.view.gbuffer.mask[s.room.floor];
+  s.geo = preparePartGeometry(s.view.gbuffer, s.room.camera.position().cast<float>(), s.view.grid,
+                              s.mask, s.room.floor);
+  return s;
+}
+
+PartFitOptions quickFit() {
+  PartFitOptions o = PartFitOptions::preset("fast");
+  o.mapSize = 64;
+  return o;
+}
+
+TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
+  const GraphLibrary lib = GraphLibrary::load();
+  // the truth: wood planks with perturbed continuous parameters (the finalists start from defaults)
+  MaterialGraph truth = lib.create("wood_planks");
+  std::vector<float> v = truth.randomValues(11, 0.3f);
+  const std::vector<float> d = truth.defaultValues();
+  const std::vector<uint8_t> continuous = truth.differentiableMask();
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!continuous[i]) v[i] = d[i];
+  truth.setValues(v);
+  const MaterialMaps maps =
+      truth.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+  const Part s = renderFloor(&maps);
+  ASSERT_GT(s.geo.size(), 1000);
+  // the vote ranks a fabric and a plain paint above the truth
+  const std::vector<GraphVote> votes = {vote("fabric_twill", "fabric", 3),
+                                        vote("paint_matte_wall", "paint", 2),
+                                        vote("wood_planks", "wood", 1)};
+  SynthesisOptions o;
+  o.shortlist = 3;
+  o.steps = 10;
+  const SynthesisChoice c = chooseBySynthesis(lib, votes, s.geo, s.photo,
+                                              TextureLossTarget(s.photo, s.mask), quickFit(), o);
+  EXPECT_EQ(c.graph, "wood_planks");
+  EXPECT_EQ(c.category, "wood");
+  ASSERT_EQ(c.finalists.size(), 4u);  // three graphs and homogeneous
+  for (size_t i = 0; i < c.finalists.size(); ++i) {
+    EXPECT_TRUE(std::isfinite(c.finalists[i].loss)) << c.finalists[i].graph;
+    if (i > 0) EXPECT_LE(c.finalists[i - 1].loss, c.finalists[i].loss);
+  }
+  // the winner carries its short fit (a warm start for the real fit)
+  EXPECT_FALSE(c.finalists.front().fit.values.empty());
+}
+
+TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {
+  const GraphLibrary lib = GraphLibrary::load();
+  const Part s = renderFloor(nullptr);
+  const std::vector<GraphVote> votes = {vote("wood_planks", "wood", 3),
+                                        vote("stone_marble_white", "stone", 2)};
+  SynthesisOptions o;
+  o.shortlist = 2;
+  o.steps = 10;
+  const SynthesisChoice c = chooseBySynthesis(lib, votes, s.geo, s.photo,
+                                              TextureLossTarget(s.photo, s.mask), quickFit(), o);
+  EXPECT_EQ(c.graph, "homogeneous");
+  for (const SynthesisFinalist& f : c.finalists) {
+    EXPECT_TRUE(std::isfinite(f.loss)) << f.graph;
+    std::printf("  %-20s loss %.4f\n", f.graph.c_str(), f.loss);
+  }
+}
+
+}  // namespace
+}  // namespace ps
