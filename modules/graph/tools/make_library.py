@@ -47,9 +47,31 @@ class G:
                 'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
 
 
-def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, normal_max=None):
+def pixel_phase(t):
+    """t rounded to a multiple of 1/64 (never 0): a shift that is a whole number of pixels at
+    every map size from 64 up, so `transform` moves pixels without resampling them."""
+    return max(1, round(t * 64)) / 64.0
+
+
+def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, normal_max=None, shift=None, snap=True,
+           shift_maps=('alb', 'rgh', 'hgt', 'met')):
     # relief range: up to 10x the default (a free 0..0.1 range turns faint textures into
     # saturated bump noise in random draws and makes the normal map insensitive in fitting)
+    if shift:
+        # Moves the pattern by (du, dv) texture units so that no tile joint, stripe edge or noise
+        # cell border lies on the texture's own border: the wrap-around border must be as smooth
+        # as the interior (issue 18's tileability criterion), while joints exactly on it make
+        # it a joint line of every map.
+        du, dv = (pixel_phase(t) if t and snap else float(t) for t in shift)
+        moved = {}
+        for key, src in (('alb', albedo), ('rgh', rough), ('hgt', height), ('met', metallic)):
+            if src is None or key not in shift_maps:
+                moved.setdefault(src, src)
+                continue
+            if src not in moved:
+                moved[src] = g.n('shift_' + key, 'transform', {'in': src}, offset_u=du, offset_v=dv)
+        albedo, rough, height = moved[albedo], moved[rough], moved[height]
+        metallic = moved.get(metallic) if metallic else None
     if normal_max is None:
         normal_max = round(min(0.1, max(0.02, 10 * normal_intensity)), 4)
     g.n('nrm', 'normal', {'height': height}, intensity=normal_intensity)
@@ -111,7 +133,9 @@ def wood_planks(name, rows, cols, layout, col, seed, desc):
     g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
     g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.5, 0.38)
-    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03)
+    # the roughness follows the unsampled grain (no joints): only albedo and height move
+    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03, shift=((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows),
+           shift_maps=('alb', 'hgt'))
 
 
 wood_planks('wood_planks', 8, 2, 'planks', ((0.50, 0.30, 0.14), (0.34, 0.18, 0.07), (0.18, 0.08, 0.03)), 1,
@@ -138,7 +162,7 @@ def parquet_herringbone():
     g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply')
     g.n('h', 'blend', {'fg': grain, 'bg': 'hb.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03)
+    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03, shift=(1 / 64, 3 / 64))
 
 
 parquet_herringbone()
@@ -148,7 +172,7 @@ def parquet_grid():
     g = G('wood_parquet_checker', 'wood', 'Basket parquet: square blocks alternating the grain direction.')
     grain = wood_grain(g, rings=64, seed=11, warp=0.012)
     g.n('rot', 'transform', {'in': grain}, rotation='90')
-    g.n('chk', 'checker', count=6, softness=0.005)
+    g.n('chk', 'checker', count=3, softness=0.005)  # 3 periods of 2 x 2 squares: one per block
     g.n('mix', 'blend', {'fg': 'rot', 'bg': grain, 'mask': 'chk'})
     g.n('tiles', 'tile', {'pattern': 'mix'}, layout='grid', rows=6, cols=6, gap=0.02, bevel=0.04, lum_var=0.5, seed=12)
     g.p('block_gap', 'tiles.gap', min=0.0, max=0.1)
@@ -159,7 +183,7 @@ def parquet_grid():
     g.p('block_tint', 'tint.opacity')
     g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'tint', 0.005, normal_max=0.03)
+    finish(g, 'h', r, 'tint', 0.005, normal_max=0.03, shift=(1 / 12, 1 / 12))
 
 
 parquet_grid()
@@ -192,12 +216,14 @@ def painted_wood():
     g.n('shade', 'levels', {'in': 'rot'}, out_low=0.85, out_high=1.0)
     g.p('grain_show_through', 'shade.out_low', min=0.5, max=1.0)
     g.n('alb0', 'blend', {'fg': 'shade', 'bg': 'paint'}, mode='multiply')
-    g.n('gapm', 'invert', {'in': 'tiles.height'})
+    # the board layout turns with the grain (horizontal boards, grain along them)
+    g.n('roth', 'transform', {'in': 'tiles.height'}, rotation='90')
+    g.n('gapm', 'invert', {'in': 'roth'})
     g.n('alb', 'blend', {'fg': 'gapm', 'bg': 'alb0'}, mode='subtract', opacity=0.5)
-    g.n('h', 'blend', {'fg': 'rot', 'bg': 'tiles.height'}, mode='multiply', opacity=0.1)
-    g.n('h2', 'transform', {'in': 'h'}, rotation='90')
+    g.n('h', 'blend', {'fg': 'rot', 'bg': 'roth'}, mode='multiply', opacity=0.1)
     r = rough_from(g, 'rot', 0.45, 0.3)
-    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03)
+    g.n('rj', 'blend', {'fg': 'gapm', 'bg': r}, mode='add', opacity=0.3)
+    finish(g, 'h', 'rj', 'alb', 0.005, normal_max=0.03, shift=(0.25, 1 / 24))
 
 
 painted_wood()
@@ -228,7 +254,7 @@ def tile_graph(name, desc, layout, rows, cols, tile_col, grout_col, gap, bevel, 
     g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=rough[0])
     g.p('roughness_grout', 'rough.out_low')
     g.p('roughness_tile', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01)
+    finish(g, 'h', 'rough', 'alb', 0.01, shift=((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows))
 
 
 tile_graph('tile_square_ceramic', 'Square glazed ceramic tiles with light grout.', 'grid', 6, 6,
@@ -246,9 +272,9 @@ tile_graph('tile_mosaic', 'Small square glass mosaic with varied blue-green tile
 def checker_tiles():
     g = G('tile_checker', 'tile', 'Black and white checker floor tiles (two colours alternating, thin grout).')
     g.n('t', 'tile', layout='grid', rows=8, cols=8, row_offset=0.0, gap=0.03, bevel=0.04, lum_var=0.05, seed=3)
-    g.n('chk', 'checker', count=8, softness=0.002)
-    # one count drives the tile grid and the colour checker so they stay aligned
-    g.p('tile_count', 't.rows', 't.cols', 'chk.count', min=4, max=16)
+    # the checker node's count is periods of 2 x 2 squares: count 4 gives the 8 x 8 squares of
+    # the 8 x 8 tiles (one colour per tile)
+    g.n('chk', 'checker', count=4, softness=0.002)
     g.p('grout_width', 't.gap', min=0.0, max=0.2)
     g.p('bevel', 't.bevel', min=0.005, max=0.3)
     g.p('tile_variation', 't.lum_var')
@@ -269,7 +295,7 @@ def checker_tiles():
     g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=0.12)
     g.p('roughness_grout', 'rough.out_low')
     g.p('roughness_tile', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01)
+    finish(g, 'h', 'rough', 'alb', 0.01, shift=(1 / 16, 1 / 16))
 
 
 checker_tiles()
@@ -292,7 +318,7 @@ def hex_tiles():
     g.n('rough', 'levels', {'in': 'd'}, out_low=0.8, out_high=0.1)
     g.p('roughness_grout', 'rough.out_low')
     g.p('roughness_tile', 'rough.out_high')
-    finish(g, 'd', 'rough', 'alb', 0.004)
+    finish(g, 'd', 'rough', 'alb', 0.004, shift=(1 / 64, 1 / 64))
 
 
 hex_tiles()
@@ -387,7 +413,7 @@ def travertine():
     g.n('rough', 'levels', {'in': 'band'}, out_low=0.45, out_high=0.6)
     g.p('roughness_min', 'rough.out_low')
     g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h0', 'rough', 'alb', 0.005)
+    finish(g, 'h0', 'rough', 'alb', 0.005, shift=(0.125, 0.125))
 
 
 travertine()
@@ -405,10 +431,16 @@ def slate():
     g.n('gc', 'uniform_color', color=[0.25, 0.24, 0.23])
     g.n('alb', 'blend', {'fg': 'col', 'bg': 'gc', 'mask': 't.height'})
     g.n('h', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.6)
-    g.n('rough', 'levels', {'in': 't.sampled'}, out_low=0.5, out_high=0.8)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01)
+    # roughness: the flag's own (shifted) cleft pattern on the stone, the grout's value in the
+    # joints; every flag samples the pattern at another offset, so the mask keeps the change of
+    # pattern inside the joint instead of a roughness step along every flag border
+    g.n('rs', 'levels', {'in': 't.sampled'}, out_low=0.5, out_high=0.8)
+    g.p('roughness_min', 'rs.out_low')
+    g.p('roughness_max', 'rs.out_high')
+    g.n('rg', 'uniform_gray', value=0.9)
+    g.p('roughness_grout', 'rg.value')
+    g.n('rough', 'blend', {'fg': 'rs', 'bg': 'rg', 'mask': 't.height'})
+    finish(g, 'h', 'rough', 'alb', 0.01, shift=(0.125, 0.125))
 
 
 slate()
@@ -551,7 +583,7 @@ def wallpaper_damask():
     g.n('rough', 'levels', {'in': 'ornament'}, out_low=0.8, out_high=0.45)
     g.p('roughness_ground', 'rough.out_low')
     g.p('roughness_ornament', 'rough.out_high')
-    finish(g, 'ornament', 'rough', 'alb', 0.003)
+    finish(g, 'ornament', 'rough', 'alb', 0.003, shift=(1 / 16, 1 / 16))
 
 
 wallpaper_damask()
@@ -869,7 +901,7 @@ def rubber_plain():
     g.n('rough', 'levels', {'in': 'b'}, out_low=0.55, out_high=0.7)
     g.p('roughness_min', 'rough.out_low')
     g.p('roughness_max', 'rough.out_high')
-    finish(g, 'b', 'rough', 'alb', 0.002)
+    finish(g, 'b', 'rough', 'alb', 0.002, shift=(1 / 1024, 1 / 1024), snap=False)
 
 
 rubber_plain()
@@ -892,7 +924,7 @@ def paper(name, desc, col, fibers, seed, corrugated=False):
     g.n('rough', 'levels', {'in': 'f'}, out_low=0.8, out_high=0.95)
     g.p('roughness_min', 'rough.out_low')
     g.p('roughness_max', 'rough.out_high')
-    finish(g, h, 'rough', 'alb', 0.002)
+    finish(g, h, 'rough', 'alb', 0.002, shift=(0, 1 / 96) if corrugated else None)
 
 
 paper('paper_white', 'White paper / card with fiber mottling.', [0.82, 0.81, 0.78], 32, 301)
