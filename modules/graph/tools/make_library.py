@@ -133,8 +133,11 @@ def wood_planks(name, rows, cols, layout, col, seed, desc):
     g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
     g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
     r = rough_from(g, grain, 0.5, 0.38)
-    # the roughness follows the unsampled grain (no joints): only albedo and height move
-    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03, shift=((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows),
+    # the roughness follows the unsampled grain (no joints): only albedo and height move; along u
+    # only the running bond needs it (`planks` rows have random offsets, so a plank end lies on
+    # the border no more often than on any other column; moving them also made the optim test's
+    # UV-rotation recovery on wood_planks land 34 degrees off)
+    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03, shift=(0.25 / cols if layout == 'bricks' else 0.0, 0.5 / rows),
            shift_maps=('alb', 'hgt'))
 
 
