@@ -29,7 +29,10 @@ inline T smooth3d(T t) {
 // ---------------------------------------------------------------- uniform
 struct UniformGray {
   static NodeTypeDesc desc() {
-    return {"uniform_gray", "A constant gray value.", {}, {{"out", 1}},
+    return {"uniform_gray",
+            "A constant gray value.",
+            {},
+            {{"out", 1}},
             {pCont("value", 0, 1, 0.5f, "the value")}};
   }
   template <class T>
@@ -46,7 +49,10 @@ struct UniformGray {
 
 struct UniformColor {
   static NodeTypeDesc desc() {
-    return {"uniform_color", "A constant linear RGB color.", {}, {{"out", 3}},
+    return {"uniform_color",
+            "A constant linear RGB color.",
+            {},
+            {{"out", 3}},
             {pColor("color", 0.5f, 0.5f, 0.5f, "linear RGB")}};
   }
   template <class T>
@@ -67,10 +73,10 @@ struct UniformColor {
 
 // ---------------------------------------------------------------- gradient noise (fBm)
 constexpr float kGradDirs[16][2] = {
-    {1.f, 0.f},          {0.92388f, 0.38268f},  {0.70711f, 0.70711f},  {0.38268f, 0.92388f},
-    {0.f, 1.f},          {-0.38268f, 0.92388f}, {-0.70711f, 0.70711f}, {-0.92388f, 0.38268f},
-    {-1.f, 0.f},         {-0.92388f, -0.38268f}, {-0.70711f, -0.70711f}, {-0.38268f, -0.92388f},
-    {0.f, -1.f},         {0.38268f, -0.92388f}, {0.70711f, -0.70711f},  {0.92388f, -0.38268f}};
+    {1.f, 0.f},  {0.92388f, 0.38268f},   {0.70711f, 0.70711f},   {0.38268f, 0.92388f},
+    {0.f, 1.f},  {-0.38268f, 0.92388f},  {-0.70711f, 0.70711f},  {-0.92388f, 0.38268f},
+    {-1.f, 0.f}, {-0.92388f, -0.38268f}, {-0.70711f, -0.70711f}, {-0.38268f, -0.92388f},
+    {0.f, -1.f}, {0.38268f, -0.92388f},  {0.70711f, -0.70711f},  {0.92388f, -0.38268f}};
 
 /// Periodic Perlin noise of one octave evaluated row by row. The per-column quantities (lattice
 /// cell, fraction, quintic weight) are computed once per octave, the lattice gradients once per
@@ -142,8 +148,10 @@ struct PerlinOctave {
       if (r.s1.iy != iy1) fill(r.s1, iy1);
     }
     const T fy1 = fy - 1;
-    const T *ax0 = r.s0.ax.data(), *ay0 = r.s0.ay.data(), *bx0 = r.s0.bx.data(), *by0 = r.s0.by.data();
-    const T *ax1 = r.s1.ax.data(), *ay1 = r.s1.ay.data(), *bx1 = r.s1.bx.data(), *by1 = r.s1.by.data();
+    const T *ax0 = r.s0.ax.data(), *ay0 = r.s0.ay.data(), *bx0 = r.s0.bx.data(),
+            *by0 = r.s0.by.data();
+    const T *ax1 = r.s1.ax.data(), *ay1 = r.s1.ay.data(), *bx1 = r.s1.bx.data(),
+            *by1 = r.s1.by.data();
     const T *fxp = fx.data(), *sxp = sx.data();
     for (int x = 0; x < n; ++x) {
       const T f = fxp[x], f1 = f - 1, s = sxp[x];
@@ -197,7 +205,8 @@ struct Fbm {
     S[1].create(n, 1);
     const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
     std::vector<PerlinOctave<T>> oct(K);
-    for (int k = 0; k < K; ++k) oct[k].init(n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
+    for (int k = 0; k < K; ++k)
+      oct[k].init(n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
     const T gq = T(kGain) / q;
     forRowRanges(n, [&](int y0, int y1) {
       std::vector<typename PerlinOctave<T>::Rows> rows(K);
@@ -291,8 +300,10 @@ struct ValueNoise {
 struct WhiteNoise {
   enum { kScale, kSeed };
   static NodeTypeDesc desc() {
-    return {"white_noise", "Independent uniform values in [0, 1] on a grid of scale x scale cells.",
-            {}, {{"out", 1}},
+    return {"white_noise",
+            "Independent uniform values in [0, 1] on a grid of scale x scale cells.",
+            {},
+            {{"out", 1}},
             {pInt("scale", 1, 4096, 256, "cells per unit"), pSeed()}};
   }
   template <class T>
@@ -324,8 +335,7 @@ struct Voronoi {
             {{"out", 1}},
             {pInt("scale", 1, 256, 8, "cells per unit"),
              pCont("jitter", 0, 1, 0.9f, "how far points move from cell centers"),
-             pChoice("mode", {"f1", "f2_minus_f1", "cell_value"}, 0, "what to output"),
-             pSeed()}};
+             pChoice("mode", {"f1", "f2_minus_f1", "cell_value"}, 0, "what to output"), pSeed()}};
   }
   struct Hit {
     double d1, d2;
@@ -514,23 +524,28 @@ struct GradientRadial {
 struct Stripes {
   enum { kCount, kDir, kWidth, kSoft };
   static NodeTypeDesc desc() {
-    return {"stripes",
-            "Parallel stripes, `count` per unit; the phase runs along u (vertical stripes), v "
-            "(horizontal), u+v or u-v (diagonals); 1 on the stripe, 0 between, linear edges.",
-            {},
-            {{"out", 1}},
-            {pInt("count", 1, 512, 8, "stripes per unit"),
-             pChoice("direction", {"u", "v", "diagonal", "antidiagonal"}, 0, "phase direction"),
-             pCont("width", 0, 1, 0.5f, "stripe width as a fraction of the period"),
-             pCont("softness", 0.002f, 0.5f, 0.05f, "edge ramp width as a fraction of the period")}};
+    return {
+        "stripes",
+        "Parallel stripes, `count` per unit; the phase runs along u (vertical stripes), v "
+        "(horizontal), u+v or u-v (diagonals); 1 on the stripe, 0 between, linear edges.",
+        {},
+        {{"out", 1}},
+        {pInt("count", 1, 512, 8, "stripes per unit"),
+         pChoice("direction", {"u", "v", "diagonal", "antidiagonal"}, 0, "phase direction"),
+         pCont("width", 0, 1, 0.5f, "stripe width as a fraction of the period"),
+         pCont("softness", 0.002f, 0.5f, 0.05f, "edge ramp width as a fraction of the period")}};
   }
   template <class T>
   static T phase(int dir, T u, T v) {
     switch (dir) {
-      case 0: return u;
-      case 1: return v;
-      case 2: return u + v;
-      default: return u - v;
+      case 0:
+        return u;
+      case 1:
+        return v;
+      case 2:
+        return u + v;
+      default:
+        return u - v;
     }
   }
   template <class T>
@@ -571,9 +586,12 @@ struct Stripes {
 struct Checker {
   enum { kCount, kSoft };
   static NodeTypeDesc desc() {
-    return {"checker", "A checkerboard of count x count squares (1 and 0), soft edges.", {},
+    return {"checker",
+            "A checkerboard of count x count periods per unit, each period 2 x 2 squares (1 and "
+            "0), soft edges.",
+            {},
             {{"out", 1}},
-            {pInt("count", 1, 512, 8, "squares per unit"),
+            {pInt("count", 1, 512, 8, "periods (2 x 2 squares) per unit"),
              pCont("softness", 0.002f, 0.5f, 0.02f, "edge ramp as a fraction of a square")}};
   }
   template <class T>
@@ -836,18 +854,18 @@ struct Tile {
 struct Herringbone {
   enum { kCount, kRatio, kGap, kBevel, kLumVar, kSeed };
   static NodeTypeDesc desc() {
-    return {"herringbone",
-            "Herringbone parquet of 1 x ratio planks (horizontal and vertical in a staircase), "
-            "repeated count x count times per unit. Outputs as `tile`; the `pattern` input is "
-            "transposed on vertical planks so a grain along u follows every plank. gap and bevel "
-            "are in units of the plank width.",
-            {{"pattern", 0, true}},
-            {{"height", 1}, {"random", 1}, {"sampled", 0}},
-            {pInt("count", 1, 32, 2, "pattern repeats per unit"),
-             pInt("ratio", 2, 8, 4, "plank length / width"),
-             pCont("gap", 0, 0.5f, 0.04f, "gap width"),
-             pCont("bevel", 0.005f, 0.5f, 0.08f, "bevel width"),
-             pCont("lum_var", 0, 1, 0.3f, "per-plank random value spread"), pSeed()}};
+    return {
+        "herringbone",
+        "Herringbone parquet of 1 x ratio planks (horizontal and vertical in a staircase), "
+        "repeated count x count times per unit. Outputs as `tile`; the `pattern` input is "
+        "transposed on vertical planks so a grain along u follows every plank. gap and bevel "
+        "are in units of the plank width.",
+        {{"pattern", 0, true}},
+        {{"height", 1}, {"random", 1}, {"sampled", 0}},
+        {pInt("count", 1, 32, 2, "pattern repeats per unit"),
+         pInt("ratio", 2, 8, 4, "plank length / width"), pCont("gap", 0, 0.5f, 0.04f, "gap width"),
+         pCont("bevel", 0.005f, 0.5f, 0.08f, "bevel width"),
+         pCont("lum_var", 0, 1, 0.3f, "per-plank random value spread"), pSeed()}};
   }
   template <class T>
   struct Geo {
@@ -935,24 +953,28 @@ struct Herringbone {
 struct Weave {
   enum { kCount, kPattern, kWidth, kSeed };
   static NodeTypeDesc desc() {
-    return {"weave",
-            "Woven threads, count per unit each way: warp threads run along v, weft along u. "
-            "Outputs the thread height (0.5 + 0.5 sin arch on top, 0.5 below, parabolic "
-            "cross-section), a mask that is 1 where the warp is on top, and a per-thread random "
-            "value.",
-            {},
-            {{"height", 1}, {"warp", 1}, {"random", 1}},
-            {pInt("count", 2, 512, 32, "threads per unit (rounded up to the pattern period)"),
-             pChoice("pattern", {"plain", "twill_2_2", "twill_3_1", "basket_2_2"}, 0, "weave"),
-             pCont("width", 0.3f, 1.f, 0.85f, "thread width as a fraction of the spacing"),
-             pSeed()}};
+    return {
+        "weave",
+        "Woven threads, count per unit each way: warp threads run along v, weft along u. "
+        "Outputs the thread height (0.5 + 0.5 sin arch on top, 0.5 below, parabolic "
+        "cross-section), a mask that is 1 where the warp is on top, and a per-thread random "
+        "value.",
+        {},
+        {{"height", 1}, {"warp", 1}, {"random", 1}},
+        {pInt("count", 2, 512, 32, "threads per unit (rounded up to the pattern period)"),
+         pChoice("pattern", {"plain", "twill_2_2", "twill_3_1", "basket_2_2"}, 0, "weave"),
+         pCont("width", 0.3f, 1.f, 0.85f, "thread width as a fraction of the spacing"), pSeed()}};
   }
   static bool warpTop(int pattern, int i, int j) {
     switch (pattern) {
-      case 0: return ((i + j) & 1) == 0;
-      case 1: return wrapi(i + j, 4) < 2;
-      case 2: return wrapi(i + j, 4) < 3;
-      default: return (((i >> 1) + (j >> 1)) & 1) == 0;
+      case 0:
+        return ((i + j) & 1) == 0;
+      case 1:
+        return wrapi(i + j, 4) < 2;
+      case 2:
+        return wrapi(i + j, 4) < 3;
+      default:
+        return (((i >> 1) + (j >> 1)) & 1) == 0;
     }
   }
   template <class T>

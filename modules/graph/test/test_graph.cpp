@@ -19,7 +19,9 @@ const ps::GraphLibrary& lib() {
   return l;
 }
 
-double meanAbs(const cv::Mat& a) { return cv::norm(a, cv::NORM_L1) / double(a.total() * a.channels()); }
+double meanAbs(const cv::Mat& a) {
+  return cv::norm(a, cv::NORM_L1) / double(a.total() * a.channels());
+}
 
 }  // namespace
 
@@ -83,7 +85,8 @@ TEST(Graph_Library, has_40_valid_graphs_in_spec_categories) {
   const auto& l = lib();
   EXPECT_GE(l.size(), 40);
   const auto& cats = ps::materialCategories();
-  for (const auto& c : cats) EXPECT_FALSE(l.namesInCategory(c).empty()) << "no graph in category " << c;
+  for (const auto& c : cats)
+    EXPECT_FALSE(l.namesInCategory(c).empty()) << "no graph in category " << c;
   for (const auto& name : l.names()) {
     const auto& g = l.get(name);
     EXPECT_NE(std::find(cats.begin(), cats.end(), g.category()), cats.end()) << name;
@@ -125,9 +128,13 @@ TEST(Graph_Format, bad_files_are_input_errors) {
     return s;
   };
   EXPECT_THROW(ps::MaterialGraph::fromString(bad("paint", "lava"), "b.json"), ps::InputError);
-  EXPECT_THROW(ps::MaterialGraph::fromString(bad("uniform_gray", "nope"), "b.json"), ps::InputError);
-  EXPECT_THROW(ps::MaterialGraph::fromString(bad("\"albedo\":\"c\"", "\"albedo\":\"zz\""), "b.json"), ps::InputError);
-  EXPECT_THROW(ps::MaterialGraph::fromString(bad("\"normal\":\"n\"", "\"normal\":\"r\""), "b.json"), ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("uniform_gray", "nope"), "b.json"),
+               ps::InputError);
+  EXPECT_THROW(
+      ps::MaterialGraph::fromString(bad("\"albedo\":\"c\"", "\"albedo\":\"zz\""), "b.json"),
+      ps::InputError);
+  EXPECT_THROW(ps::MaterialGraph::fromString(bad("\"normal\":\"n\"", "\"normal\":\"r\""), "b.json"),
+               ps::InputError);
   EXPECT_THROW(ps::MaterialGraph::fromString("{", "b.json"), ps::InputError);
   // a cycle
   const std::string cyc = R"({"name":"x","category":"paint","nodes":[
@@ -202,21 +209,77 @@ TEST(Graph_Library, every_output_tiles) {
       for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
           for (int q = 0; q < c; ++q) {
-            colDiff[x] += std::abs(f.at<float>(y, ((x + 1) % n) * c + q) - f.at<float>(y, x * c + q));
+            colDiff[x] +=
+                std::abs(f.at<float>(y, ((x + 1) % n) * c + q) - f.at<float>(y, x * c + q));
             rowDiff[y] += std::abs(f.at<float>((y + 1) % n, x * c + q) - f.at<float>(y, x * c + q));
           }
       const double maxCol = *std::max_element(colDiff.begin(), colDiff.end() - 1);
       const double maxRow = *std::max_element(rowDiff.begin(), rowDiff.end() - 1);
       const double tol = 1e-3 * n * c;
-      EXPECT_LE(colDiff[n - 1], 1.3 * maxCol + tol) << name << " " << ps::mapKindName(ps::MapKind(k)) << " u seam";
-      EXPECT_LE(rowDiff[n - 1], 1.3 * maxRow + tol) << name << " " << ps::mapKindName(ps::MapKind(k)) << " v seam";
+      EXPECT_LE(colDiff[n - 1], 1.3 * maxCol + tol)
+          << name << " " << ps::mapKindName(ps::MapKind(k)) << " u seam";
+      EXPECT_LE(rowDiff[n - 1], 1.3 * maxRow + tol)
+          << name << " " << ps::mapKindName(ps::MapKind(k)) << " v seam";
       // the texture rolled by (n/2 + 3, n/2 + 5): the interior mean must not change
       cv::Mat r(a.size(), a.type());
       for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-          std::memcpy(r.ptr<float>((y + n / 2 + 5) % n) + ((x + n / 2 + 3) % n) * c, a.ptr<float>(y) + x * c, sizeof(float) * c);
-      cv::Mat dA = a.colRange(1, n) - a.colRange(0, n - 1), dR = r.colRange(1, n) - r.colRange(0, n - 1);
-      EXPECT_NEAR(meanAbs(dR), meanAbs(dA), 0.1 * meanAbs(dA) + 1e-3) << name << " " << ps::mapKindName(ps::MapKind(k)) << " rolled";
+          std::memcpy(r.ptr<float>((y + n / 2 + 5) % n) + ((x + n / 2 + 3) % n) * c,
+                      a.ptr<float>(y) + x * c, sizeof(float) * c);
+      cv::Mat dA = a.colRange(1, n) - a.colRange(0, n - 1),
+              dR = r.colRange(1, n) - r.colRange(0, n - 1);
+      EXPECT_NEAR(meanAbs(dR), meanAbs(dA), 0.1 * meanAbs(dA) + 1e-3)
+          << name << " " << ps::mapKindName(ps::MapKind(k)) << " rolled";
+    }
+  }
+}
+
+// Issue 18's criterion, for every map of every graph: the mean |difference| across the wrap-around
+// border (column n-1 -> 0, and row n-1 -> 0) is at most 2 x the mean |difference| between interior
+// neighbours in the same direction, at 256 and at 1024 px (stone_slate's roughness measured 0.096
+// across the border against 0.015 inside at 1024 before it was fixed). Stricter than
+// every_output_tiles, which compares with the worst interior line: a tile joint on the border
+// passes that one and fails this one, so tile-like graphs move their pattern by half a tile
+// (make_library.py, finish(shift=...)) and the border runs through tiles, as most lines do.
+namespace {
+struct BorderGradient {
+  double borderU, interiorU, borderV, interiorV;
+};
+BorderGradient borderGradient(const cv::Mat& a) {
+  const int n = a.rows, c = a.channels();
+  const cv::Mat f = a.reshape(1, n);
+  double bu = 0, iu = 0, bv = 0, iv = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      for (int q = 0; q < c; ++q) {
+        const float v = f.at<float>(y, x * c + q);
+        const double du = std::abs(f.at<float>(y, ((x + 1) % n) * c + q) - v);
+        const double dv = std::abs(f.at<float>((y + 1) % n, x * c + q) - v);
+        (x == n - 1 ? bu : iu) += du;
+        (y == n - 1 ? bv : iv) += dv;
+      }
+  const double cnt = double(n) * c;
+  return {bu / cnt, iu / (cnt * (n - 1)), bv / cnt, iv / (cnt * (n - 1))};
+}
+}  // namespace
+
+TEST(Graph_Library, border_continuity_within_2x_interior_gradient) {
+  for (const int n : {256, 1024}) {
+    for (const auto& name : lib().names()) {
+      ps::MaterialGraph g = lib().create(name);
+      const auto m = g.evaluate(n);
+      for (int k = 0; k < ps::kMapKindCount; ++k) {
+        const cv::Mat& a = m.get(ps::MapKind(k));
+        if (a.empty()) continue;
+        const auto b = borderGradient(a);
+        const std::string what =
+            name + " " + ps::mapKindName(ps::MapKind(k)) + " at " + std::to_string(n);
+        const double tol = 1e-4;
+        EXPECT_LE(b.borderU, 2.0 * b.interiorU + tol)
+            << what << " u border " << b.borderU << " interior " << b.interiorU;
+        EXPECT_LE(b.borderV, 2.0 * b.interiorV + tol)
+            << what << " v border " << b.borderV << " interior " << b.interiorV;
+      }
     }
   }
 }
@@ -227,8 +290,10 @@ TEST(Graph_Library, every_output_tiles) {
 TEST(Graph_Library, resolution_independent) {
   for (const auto& name : lib().names()) {
     ps::MaterialGraph g = lib().create(name);
-    const auto hi = g.evaluate(1024, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
-    const auto lo = g.evaluate(256, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    const auto hi = g.evaluate(
+        1024, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    const auto lo = g.evaluate(
+        256, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
     for (auto k : {ps::MapKind::Albedo, ps::MapKind::Roughness, ps::MapKind::Normal}) {
       cv::Mat d, a, b;
       cv::resize(hi.get(k), d, cv::Size(256, 256), 0, 0, cv::INTER_AREA);
@@ -279,7 +344,8 @@ struct FitResult {
 FitResult selfFit(ps::MaterialGraph& g, uint64_t seed, int iters, int size) {
   const std::vector<float> target = g.randomValues(seed, 0.5f);
   g.setValues(target);
-  const auto t = g.evaluate(size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+  const auto t = g.evaluate(
+      size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
   const ps::MaterialMaps tm{t.albedo.clone(), t.normal.clone(), t.roughness.clone(), {}, {}};
   // perturbed start: every continuous value moved by up to 20% of its range; discrete kept
   std::vector<float> x = target;
@@ -293,7 +359,8 @@ FitResult selfFit(ps::MaterialGraph& g, uint64_t seed, int iters, int size) {
   x = g.projectValues(x);
   auto lossAndGrad = [&](std::vector<float>* grad) {
     g.setValues(x);
-    const auto m = g.evaluate(size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
+    const auto m = g.evaluate(
+        size, ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}));
     double L = 0;
     ps::MaterialMaps d;
     for (auto k : {ps::MapKind::Albedo, ps::MapKind::Normal, ps::MapKind::Roughness}) {
@@ -336,10 +403,14 @@ TEST(Graph_Library, self_fit_with_adam_reduces_error_for_most_graphs) {
     const FitResult r = selfFit(g, 7, 120, 32);
     const double red = r.initial > 0 ? 1.0 - r.final / r.initial : 1.0;
     ++total;
-    if (red >= 0.9) ++pass;
-    else failed += "  " + name + ": " + std::to_string(int(red * 100)) + "% (loss " + std::to_string(r.initial) + " -> " + std::to_string(r.final) + ")\n";
+    if (red >= 0.9)
+      ++pass;
+    else
+      failed += "  " + name + ": " + std::to_string(int(red * 100)) + "% (loss " +
+                std::to_string(r.initial) + " -> " + std::to_string(r.final) + ")\n";
     EXPECT_LE(r.final, r.initial + 1e-12) << name;
   }
-  std::printf("self-fit: %d / %d graphs reduce the map error by >= 90%%\n%s", pass, total, failed.c_str());
+  std::printf("self-fit: %d / %d graphs reduce the map error by >= 90%%\n%s", pass, total,
+              failed.c_str());
   EXPECT_GE(pass, int(0.75 * total)) << failed;
 }

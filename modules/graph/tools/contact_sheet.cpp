@@ -3,36 +3,56 @@
 //
 // usage: ps_graph_contact_sheet OUT.jpg [--library DIR] [--maps N] [--cell N] [--only NAME]
 //        [--png COPY.png]   (also writes a lossless copy, e.g. for viewers without JPEG)
+//        [--plane 1]        (a flat, frontal plane instead of the sphere: patterns undistorted)
+//        [--prefix P]       (only the graphs whose name starts with P)
 #include "photoscene/core.hpp"
 #include "photoscene/graph.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s OUT.jpg [--library DIR] [--maps N] [--cell N] [--only NAME]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s OUT.jpg [--library DIR] [--maps N] [--cell N] [--only NAME]\n",
+                 argv[0]);
     return 2;
   }
-  std::string out = argv[1], folder, only, png;
+  std::string out = argv[1], folder, only, png, prefix;
+  bool plane = false;
   int mapSize = 256, cell = 150;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--library") folder = argv[i + 1];
-    else if (k == "--maps") mapSize = std::stoi(argv[i + 1]);
-    else if (k == "--cell") cell = std::stoi(argv[i + 1]);
-    else if (k == "--only") only = argv[i + 1];
-    else if (k == "--png") png = argv[i + 1];
+    if (k == "--library")
+      folder = argv[i + 1];
+    else if (k == "--maps")
+      mapSize = std::stoi(argv[i + 1]);
+    else if (k == "--cell")
+      cell = std::stoi(argv[i + 1]);
+    else if (k == "--only")
+      only = argv[i + 1];
+    else if (k == "--png")
+      png = argv[i + 1];
+    else if (k == "--plane")
+      plane = std::stoi(argv[i + 1]) != 0;
+    else if (k == "--prefix")
+      prefix = argv[i + 1];
   }
   try {
     const ps::GraphLibrary lib = ps::GraphLibrary::load(folder);
     std::vector<std::string> names = lib.names();
     if (!only.empty()) names = {only};
-    const int perRow = argc > 0 && std::getenv("PS_SHEET_PER_ROW") ? std::atoi(std::getenv("PS_SHEET_PER_ROW")) : 4;
+    if (!prefix.empty())
+      names.erase(std::remove_if(names.begin(), names.end(),
+                                 [&](const std::string& s) { return s.rfind(prefix, 0) != 0; }),
+                  names.end());
+    const int perRow = argc > 0 && std::getenv("PS_SHEET_PER_ROW")
+                           ? std::atoi(std::getenv("PS_SHEET_PER_ROW"))
+                           : 4;
     const int labelH = 16;
     const int rows = (int(names.size()) + perRow - 1) / perRow;
     cv::Mat sheet(rows * (cell + labelH), perRow * 3 * cell, CV_8UC3, cv::Scalar(20, 20, 20));
@@ -44,6 +64,7 @@ int main(int argc, char** argv) {
         ps::MaterialMaps m = g.evaluate(mapSize);
         ps::PreviewOptions po;
         po.size = cell;
+        if (plane) po.shape = ps::PreviewShape::Plane, po.uvRepeat = 1.f;
         cv::Mat img = ps::renderMaterialPreview(m, po);
         cv::Mat srgb = ps::linearToSrgb(img, CV_8U), bgr;
         cv::cvtColor(srgb, bgr, cv::COLOR_RGB2BGR);

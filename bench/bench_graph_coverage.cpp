@@ -1,0 +1,447 @@
+// Coverage of the graph library against photographed materials (issue 18): can a graph of the
+// material's category reach its look at all?
+//
+//   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
+//                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
+//                           [--csv FILE] [--sheet FILE.png] [--seed 1]
+//
+// Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
+// textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
+// The "flat, frontal, evenly lit render" of a set of maps: a frontal plane seen by a frontal camera
+// under one frontal directional light, Lambert: render = albedo * n_z (n the unit tangent-space
+// normal; the photographed normal map where there is one, else flat). A view is a VIEW x VIEW
+// window of that render (wrapping):
+//   texture  the photographed maps resized to 4 VIEW px per texture tile (INTER_AREA; 512 px, the
+//            stored size, at the default VIEW); a view is a window over a quarter of the tile's
+//            width at a random offset.
+//   graph    the graph's maps at N = 4 VIEW / k px (k = 2, 4, 8, 16: the window covers k/4 graph
+//            tiles, so the graph's pattern scale is searched), the window at a random offset.
+// Yardstick: one texture view is the fit's target; 4 more at random offsets are the references.
+// d_self = the mean of ps::eval::textureDistance between the target view and each reference (the
+// texture against itself at a random UV offset).
+// Fit, per graph of the category: the features texture loss (TextureLossTarget on the texture view
+// at offset o1, full mask) of the graph's view, Adam on the graph's continuous parameters
+// (normalised to [0, 1], learning rate 0.03; the albedo offset starts at the value that matches the
+// view's mean colour), through render = albedo * n_z and MaterialGraph::
+// backward. Each scale k gets --probe steps from the defaults; the best continues to --iterations
+// steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
+// textureDistance(reference view, graph view at a random offset) for the fitted
+// graph against the same 4 references; ratio = d_graph / d_self. A material is covered when its
+// best graph's ratio <= 1.5.
+//
+// Prints one row per material (category, best graph, scale, d_self, d_graph, ratio), the coverage,
+// and the list of materials without a graph within 1.5x. --sheet writes a contact sheet: per
+// material, the texture view | the best fitted graph's view (sRGB), labelled.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "photoscene/core.hpp"
+#include "photoscene/core/parallel.hpp"
+#include "photoscene/core/timer.hpp"
+#include "photoscene/eval/texture_distance.hpp"
+#include "photoscene/features/texture_loss.hpp"
+#include "photoscene/graph.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Material {
+  std::string name, category;
+  fs::path albedo, normal;
+  bool directx = false;
+};
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  size_t a = 0;
+  while (a <= s.size()) {
+    const size_t b = s.find(',', a);
+    const std::string item = s.substr(a, b == std::string::npos ? std::string::npos : b - a);
+    if (!item.empty()) out.push_back(item);
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  return out;
+}
+
+std::vector<Material> listMaterials(const fs::path& data) {
+  std::vector<Material> out;
+  const fs::path cc0 = data / "textures" / "cc0";
+  const fs::path manifest = cc0 / "manifest.json";
+  std::ifstream f(manifest);
+  if (!f) throw ps::InputError(manifest.string(), "", "cannot open the texture manifest");
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception& e) {
+    throw ps::InputError(manifest.string(), "", std::string("not valid JSON: ") + e.what());
+  }
+  for (const auto& e : j) {
+    Material m;
+    m.name = e.at("name").get<std::string>();
+    m.category = e.at("category").get<std::string>();
+    m.albedo = cc0 / m.name / "albedo.jpg";
+    for (const auto& k : e.at("maps"))
+      if (k == "normal") m.normal = cc0 / m.name / "normal.jpg";
+    m.directx = e.contains("normal_convention") && e["normal_convention"].is_string() &&
+                e["normal_convention"] == "directx";
+    out.push_back(m);
+  }
+  const fs::path ph = data / "textures" / "polyhaven";
+  if (fs::is_directory(ph)) {
+    std::vector<fs::path> files;
+    for (const auto& de : fs::directory_iterator(ph)) files.push_back(de.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& p : files) {
+      const std::string fn = p.filename().string();
+      const std::string suffix = "_diff_1k.jpg";
+      if (fn.size() <= suffix.size() ||
+          fn.compare(fn.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      Material m;
+      const std::string stem = fn.substr(0, fn.size() - suffix.size());
+      m.name = "polyhaven_" + stem;
+      m.albedo = p;
+      if (fs::exists(ph / (stem + "_nor_gl_1k.jpg"))) m.normal = ph / (stem + "_nor_gl_1k.jpg");
+      for (const char* c :
+           {"concrete", "tile", "wood", "plaster", "stone", "brick", "metal", "fabric", "carpet"})
+        if (stem.find(c) != std::string::npos) {
+          m.category = c;
+          break;
+        }
+      if (!m.category.empty()) out.push_back(m);
+    }
+  }
+  return out;
+}
+
+// The flat render of maps: albedo * n_z (CV_32FC3).
+cv::Mat flatRender(const cv::Mat& albedo, const cv::Mat& normal) {
+  cv::Mat out(albedo.size(), CV_32FC3);
+  for (int y = 0; y < albedo.rows; ++y)
+    for (int x = 0; x < albedo.cols; ++x) {
+      const float nz = normal.empty() ? 1.f : std::max(0.f, normal.at<cv::Vec3f>(y, x)[2]);
+      out.at<cv::Vec3f>(y, x) = albedo.at<cv::Vec3f>(y, x) * nz;
+    }
+  return out;
+}
+
+// A size x size window of the periodic image `img` starting at pixel (ox, oy) (wrapping).
+cv::Mat window(const cv::Mat& img, int ox, int oy, int size) {
+  cv::Mat out(size, size, img.type());
+  const int n = img.rows, es = int(img.elemSize());
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      std::memcpy(out.ptr(y) + x * es, img.ptr((y + oy) % n) + ((x + ox) % n) * es, es);
+  return out;
+}
+// Adjoint of window for CV_32FC3: adds d (size x size) into acc (n x n) at the wrapped pixels.
+void windowAdjoint(const cv::Mat& d, int ox, int oy, cv::Mat& acc) {
+  const int n = acc.rows;
+  for (int y = 0; y < d.rows; ++y)
+    for (int x = 0; x < d.cols; ++x)
+      acc.at<cv::Vec3f>((y + oy) % n, (x + ox) % n) += d.at<cv::Vec3f>(y, x);
+}
+
+struct Texture {
+  cv::Mat render;  // 4 VIEW x 4 VIEW, one tile
+};
+
+Texture loadTexture(const Material& m, int view) {
+  const int n = 4 * view;
+  cv::Mat a = cv::imread(m.albedo.string(), cv::IMREAD_COLOR);
+  if (a.empty()) throw ps::InputError(m.albedo.string(), "", "cannot read the albedo image");
+  cv::cvtColor(a, a, cv::COLOR_BGR2RGB);
+  cv::resize(a, a, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  cv::Mat albedo = ps::srgbToLinear(a);
+  cv::Mat normal;
+  if (!m.normal.empty()) {
+    cv::Mat nm = cv::imread(m.normal.string(), cv::IMREAD_COLOR);
+    if (nm.empty()) throw ps::InputError(m.normal.string(), "", "cannot read the normal map");
+    cv::cvtColor(nm, nm, cv::COLOR_BGR2RGB);
+    cv::resize(nm, nm, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+    nm.convertTo(normal, CV_32FC3, 2.0 / 255.0, -1.0);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        cv::Vec3f& v = normal.at<cv::Vec3f>(y, x);
+        if (m.directx) v[1] = -v[1];
+        v[2] = std::max(v[2], 1e-3f);
+        v /= float(cv::norm(v));
+      }
+  }
+  return {flatRender(albedo, normal)};
+}
+
+struct Offsets {
+  std::vector<cv::Point> tex, graph;
+};
+
+struct Fit {
+  std::string graph;
+  int k = 1;
+  double loss = 1e30, dGraph = 1e30;
+  cv::Mat view;
+};
+
+double meanDistance(const std::vector<ps::eval::TextureHistograms>& tex, const cv::Mat& img,
+                    const cv::Mat& mask) {
+  const auto h = ps::eval::textureHistograms(img, mask);
+  double d = 0;
+  for (const auto& t : tex) d += ps::eval::textureDistance(t, h).total;
+  return d / double(tex.size());
+}
+
+// Fits graph `name` to the texture view; returns the best state's view and distance.
+Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
+             const ps::TextureLossTarget& target,
+             const std::vector<ps::eval::TextureHistograms>& texHist, const cv::Mat& mask,
+             const cv::Scalar& targetMean, int view, int probe, int iterations, ps::Rng& rng) {
+  ps::MaterialGraph g = lib.create(name);
+  const auto mask01 = g.differentiableMask();
+  std::vector<float> range(mask01.size(), 1.f);
+  for (const auto& p : g.parameters())
+    for (int q = 0; q < p.dim; ++q) range[p.offset + q] = p.max - p.min;
+  const auto maps = ps::MapSet::of({ps::MapKind::Albedo, ps::MapKind::Normal});
+  const int ox = int(rng.uniform() * 1e6), oy = int(rng.uniform() * 1e6);
+
+  struct State {
+    std::vector<float> x, m1, m2;
+    int it = 0;
+    double best = 1e30;
+    std::vector<float> bestX;
+  };
+  auto step = [&](State& s, int k, bool update) {
+    const int n = 4 * view / k;
+    g.setValues(s.x);
+    const ps::MaterialMaps m = g.evaluate(n, maps);
+    const cv::Mat render = flatRender(m.albedo, m.normal);
+    const cv::Mat v = window(render, ox % n, oy % n, view);
+    ps::TextureLossParams tp;
+    tp.target = &target;
+    tp.render = v;
+    const double L = ps::textureLossForward(tp);
+    if (L < s.best) s.best = L, s.bestX = s.x;
+    if (!update) return L;
+    cv::Mat dv;
+    ps::textureLossBackward(tp, 1.f, dv);
+    cv::Mat dr(n, n, CV_32FC3, cv::Scalar::all(0));
+    windowAdjoint(dv, ox % n, oy % n, dr);
+    ps::MaterialMaps d;
+    d.albedo = cv::Mat(n, n, CV_32FC3);
+    d.normal = cv::Mat(n, n, CV_32FC3, cv::Scalar::all(0));
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const cv::Vec3f gr = dr.at<cv::Vec3f>(y, x), a = m.albedo.at<cv::Vec3f>(y, x);
+        const float nz = m.normal.at<cv::Vec3f>(y, x)[2];
+        d.albedo.at<cv::Vec3f>(y, x) = gr * (nz > 0 ? nz : 0.f);
+        d.normal.at<cv::Vec3f>(y, x)[2] = nz > 0 ? gr.dot(a) : 0.f;
+      }
+    const std::vector<float> grad = g.backward(d);
+    ++s.it;
+    const double lr = 0.03, b1 = 0.9, b2 = 0.999;
+    for (size_t i = 0; i < s.x.size(); ++i) {
+      if (!mask01[i] || !std::isfinite(grad[i])) continue;
+      const double gi = grad[i] * range[i];
+      s.m1[i] = float(b1 * s.m1[i] + (1 - b1) * gi);
+      s.m2[i] = float(b2 * s.m2[i] + (1 - b2) * gi * gi);
+      const double mh = s.m1[i] / (1 - std::pow(b1, s.it)), vh = s.m2[i] / (1 - std::pow(b2, s.it));
+      s.x[i] -= float(range[i] * lr * mh / (std::sqrt(vh) + 1e-8));
+    }
+    s.x = g.projectValues(s.x);
+    return L;
+  };
+  const int ai = g.findParameter("albedo_offset");
+  const int aoff = ai >= 0 ? g.parameters()[size_t(ai)].offset : -1;
+  Fit best;
+  best.graph = name;
+  State keep;
+  for (const int k : {2, 4, 8, 16}) {
+    State s;
+    s.x = g.defaultValues();
+    s.m1.assign(s.x.size(), 0.f), s.m2.assign(s.x.size(), 0.f);
+    if (aoff >= 0) {  // start with the mean colour matched (albedo_offset, closed form)
+      const int n = 4 * view / k;
+      g.setValues(s.x);
+      const ps::MaterialMaps m = g.evaluate(n, maps);
+      const cv::Scalar gm = cv::mean(flatRender(m.albedo, m.normal));
+      double nz = 0;
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) nz += std::max(0.f, m.normal.at<cv::Vec3f>(y, x)[2]);
+      nz = std::max(0.1, nz / double(n * n));
+      for (int c = 0; c < 3; ++c)
+        s.x[size_t(aoff + c)] = float(std::clamp((targetMean[c] - gm[c]) / nz, -0.5, 0.5));
+      s.x = g.projectValues(s.x);
+    }
+    for (int i = 0; i < probe; ++i) step(s, k, true);
+    step(s, k, false);
+    if (s.best < best.loss) best.loss = s.best, best.k = k, keep = s;
+  }
+  for (int i = probe; i < iterations; ++i) step(keep, best.k, true);
+  step(keep, best.k, false);
+  best.loss = keep.best;
+  // the fitted state's view at a fresh offset, and its distance to the texture views
+  const int n = 4 * view / best.k;
+  g.setValues(keep.bestX);
+  const ps::MaterialMaps m = g.evaluate(n, maps);
+  const cv::Mat render = flatRender(m.albedo, m.normal);
+  const int gx = int(rng.uniform() * n), gy = int(rng.uniform() * n);
+  best.view = window(render, gx, gy, view);
+  best.dGraph = meanDistance(texHist, best.view, mask);
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Coverage of the graph library against photographed materials (issue 18)"};
+  std::string data = "../shared/data", library, materialsArg, csvPath, sheetPath;
+  int iterations = 24, probe = 5, view = 128, threads = 2;
+  uint64_t seed = 1;
+  app.add_option("--data", data, "shared data folder");
+  app.add_option("--library", library, "graph library folder (default: the bundled one)");
+  app.add_option("--materials", materialsArg, "only these materials (comma list)");
+  app.add_option("--iterations", iterations, "Adam steps per graph (probes included)");
+  app.add_option("--probe", probe, "Adam steps per scale before the best scale continues");
+  app.add_option("--view", view, "view size in pixels (a power of two, >= 64)");
+  app.add_option("--threads", threads, "materials fitted in parallel");
+  app.add_option("--csv", csvPath, "per-material CSV");
+  app.add_option("--sheet", sheetPath, "contact sheet PNG (texture | fitted graph)");
+  app.add_option("--seed", seed, "random offsets");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (view < 64 || (view & (view - 1)))
+      throw ps::InputError("--view", "", "expected a power of two >= 64");
+    const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
+    std::vector<Material> mats = listMaterials(data);
+    if (!materialsArg.empty()) {
+      const auto want = split(materialsArg);
+      std::vector<Material> keep;
+      for (const auto& m : mats)
+        if (std::find(want.begin(), want.end(), m.name) != want.end()) keep.push_back(m);
+      mats = keep;
+    }
+    struct Row {
+      Material mat;
+      double dSelf = 0;
+      Fit best;
+      cv::Mat texView;
+      int graphs = 0;
+      double seconds = 0;
+    };
+    std::vector<Row> rows(mats.size());
+    std::mutex printMutex;
+    ps::ThreadLimit limit(std::max(1, threads));
+    ps::parallelFor(0, int64_t(mats.size()), [&](int64_t i) {
+      Row& r = rows[size_t(i)];
+      r.mat = mats[size_t(i)];
+      ps::Timer timer;
+      const Texture tex = loadTexture(r.mat, view);
+      ps::Rng rng(seed * 7919 + uint64_t(i));
+      const int n = 4 * view;
+      const cv::Mat mask(view, view, CV_8UC1, cv::Scalar(255));
+      auto texWindow = [&]() {
+        return window(tex.render, int(rng.uniform() * n), int(rng.uniform() * n), view);
+      };
+      r.texView = texWindow();
+      std::vector<ps::eval::TextureHistograms> texHist;
+      std::vector<cv::Mat> others;
+      texHist.push_back(ps::eval::textureHistograms(r.texView, mask));
+      for (int q = 0; q < 4; ++q) others.push_back(texWindow());
+      // d_self: the fitted view's texture against 4 other windows of the texture
+      for (const auto& o : others)
+        r.dSelf +=
+            ps::eval::textureDistance(texHist[0], ps::eval::textureHistograms(o, mask)).total;
+      r.dSelf /= 4.0;
+      std::vector<ps::eval::TextureHistograms> cmp;
+      for (const auto& o : others) cmp.push_back(ps::eval::textureHistograms(o, mask));
+      const ps::TextureLossTarget target(r.texView, mask);
+      for (const auto& name : lib.namesInCategory(r.mat.category)) {
+        Fit f = fitGraph(lib, name, target, cmp, mask, cv::mean(r.texView), view, probe, iterations,
+                         rng);
+        ++r.graphs;
+        if (f.dGraph < r.best.dGraph) r.best = f;
+      }
+      r.seconds = timer.seconds();
+      std::lock_guard<std::mutex> lk(printMutex);
+      std::fprintf(
+          stderr, "%-40s %-10s %-28s k=%d self %.4f graph %.4f ratio %.2f (%d graphs, %.0f s)\n",
+          r.mat.name.c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k, r.dSelf,
+          r.best.dGraph, r.best.dGraph / std::max(1e-9, r.dSelf), r.graphs, r.seconds);
+    });
+    int covered = 0;
+    std::string missing;
+    std::printf(
+        "| material | category | best graph | graph tiles in view | d_self | d_graph | ratio "
+        "|\n|---|---|---|---|---|---|---|\n");
+    for (const auto& r : rows) {
+      const double ratio = r.best.dGraph / std::max(1e-9, r.dSelf);
+      if (ratio <= 1.5)
+        ++covered;
+      else
+        missing += "- " + r.mat.name + " (" + r.mat.category + "): best " + r.best.graph +
+                   ", ratio " + cv::format("%.2f", ratio) + "\n";
+      std::printf("| %s | %s | %s | %.1f | %.4f | %.4f | %.2f |\n", r.mat.name.c_str(),
+                  r.mat.category.c_str(), r.best.graph.c_str(), r.best.k / 4.0, r.dSelf,
+                  r.best.dGraph, ratio);
+    }
+    std::printf("\ncovered (ratio <= 1.5): %d / %zu = %.0f %%\n", covered, rows.size(),
+                rows.empty() ? 0.0 : 100.0 * covered / double(rows.size()));
+    std::printf("\nwithout a graph within 1.5x:\n%s",
+                missing.empty() ? "(none)\n" : missing.c_str());
+    if (!csvPath.empty()) {
+      std::ofstream c(csvPath);
+      c << "material,category,best_graph,k,d_self,d_graph,ratio,graphs,seconds\n";
+      for (const auto& r : rows)
+        c << r.mat.name << ',' << r.mat.category << ',' << r.best.graph << ',' << r.best.k << ','
+          << r.dSelf << ',' << r.best.dGraph << ',' << r.best.dGraph / std::max(1e-9, r.dSelf)
+          << ',' << r.graphs << ',' << r.seconds << '\n';
+    }
+    if (!sheetPath.empty()) {
+      const int perRow = 4, labelH = 16, cell = view;
+      const int nr = (int(rows.size()) + perRow - 1) / perRow;
+      cv::Mat sheet(nr * (cell + labelH), perRow * (2 * cell + 8), CV_8UC3, cv::Scalar(20, 20, 20));
+      for (size_t i = 0; i < rows.size(); ++i) {
+        const int rr = int(i) / perRow, cc = int(i) % perRow;
+        const int x0 = cc * (2 * cell + 8), y0 = rr * (cell + labelH);
+        for (int s = 0; s < 2; ++s) {
+          const cv::Mat& img = s == 0 ? rows[i].texView : rows[i].best.view;
+          if (img.empty()) continue;
+          cv::Mat srgb = ps::linearToSrgb(img, CV_8U), bgr;
+          cv::cvtColor(srgb, bgr, cv::COLOR_RGB2BGR);
+          bgr.copyTo(sheet(cv::Rect(x0 + s * cell, y0 + labelH, cell, cell)));
+        }
+        const double ratio = rows[i].best.dGraph / std::max(1e-9, rows[i].dSelf);
+        std::string label = rows[i].mat.name;
+        if (label.rfind("polyhaven_", 0) == 0) label = "ph_" + label.substr(10);
+        if (label.rfind("ambientcg_", 0) == 0) label = "acg_" + label.substr(10);
+        cv::putText(sheet, label + " | " + rows[i].best.graph + cv::format(" %.2f", ratio),
+                    cv::Point(x0 + 2, y0 + 12), cv::FONT_HERSHEY_SIMPLEX, 0.3,
+                    ratio <= 1.5 ? cv::Scalar(200, 230, 200) : cv::Scalar(120, 120, 255), 1,
+                    cv::LINE_AA);
+      }
+      if (!cv::imwrite(sheetPath, sheet, {cv::IMWRITE_JPEG_QUALITY, 85}))
+        throw ps::InputError(sheetPath, "", "cannot write the sheet");
+    }
+    return 0;
+  } catch (const ps::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
