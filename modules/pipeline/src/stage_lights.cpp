@@ -36,7 +36,10 @@ class LightsStage : public Stage {
     const std::vector<int>& freeLights = in.freeLights();
     const bool hasEnv = scene.lights.environment.has_value();
     intensity_.clear();
-    exposure_.assign(ctx.views.size(), 1.0);
+    // without a solve (every emitter given), the exposures stay as observe estimated them
+    exposure_.resize(ctx.views.size());
+    for (size_t v = 0; v < exposure_.size(); ++v)
+      exposure_[v] = ctx.viewExposure(static_cast<int>(v));
     if (freeLights.empty() && !hasEnv) return false;  // every emitter has a given radiance
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
