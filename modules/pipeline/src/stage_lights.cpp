@@ -5,13 +5,18 @@
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
+#include <limits>
+
 #include "photoscene/core.hpp"
+#include "photoscene/io.hpp"
 #include "photoscene/lighting.hpp"
 #include "stages.hpp"
 
 namespace ps::pipeline {
 
 namespace {
+
+constexpr double kSaturation = 0.99;  ///< linear value at which an 8/16-bit photo is clipped
 
 class LightsStage : public Stage {
  public:
@@ -29,6 +34,7 @@ class LightsStage : public Stage {
       decl.after.insert(decl.after.end(), {"lights0", "select", "fit", "refine0"});
     }
     decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
+    decl.version = 2;  // 2: float photos (EXR, HDR) are not clipped at 0.99
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -58,6 +64,13 @@ class LightsStage : public Stage {
       lighting::ViewLightData d;
       d.photo = photo.clone();
       d.mask = ctx.views[v].lightMask.clone();
+      if (!io::readImageInfo(scene.views[v].imagePath).isFloat) {
+        // an integer-coded photo clips at 1: its saturated pixels (any channel) say nothing; a
+        // float photo (EXR, HDR) does not clip, and all of it counts at any exposure
+        std::vector<cv::Mat> ch;
+        cv::split(photo, ch);
+        for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation);
+      }
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
       for (size_t k = 0; k < scene.lights.area.size(); ++k) {
         const auto& r = scene.lights.area[k].radiance;
@@ -77,6 +90,7 @@ class LightsStage : public Stage {
       data.push_back(std::move(d));
     }
     lighting::SolveOptions so;
+    so.saturation = std::numeric_limits<double>::infinity();  // per view above
     so.perViewExposure = ctx.views.size() > 1;
     const lighting::LightSolution s = lighting::solveLights(data, so);
     spdlog::info("{}: {}", decl.name, s.summary());
