@@ -483,23 +483,30 @@ std::vector<double> estimateExposures(const std::vector<std::vector<PartObservat
     if (s.size() >= 2) seen.push_back(std::move(s));
   }
   if (seen.empty()) return std::vector<double>(logE.size(), 1.0);
+  // Least squares first (alternating means: its fixed point is unique and moves with the data,
+  // so scaling one photo moves only its exposure), then medians from there (robust to a
+  // highlight); every step commutes with scaling a photo, so the result does too.
   std::vector<double> logAlbedo(seen.size(), 0.0);
-  for (int it = 0; it < 20; ++it) {
+  auto center = [](const std::vector<double>& r, bool robust) {
+    if (robust) return median(r);
+    double sum = 0;
+    for (double x : r) sum += x;
+    return sum / static_cast<double>(r.size());
+  };
+  for (int it = 0; it < 200; ++it) {
+    const bool robust = it >= 150;
     for (size_t p = 0; p < seen.size(); ++p) {
       std::vector<double> r;
       for (const auto& [v, l] : seen[p]) r.push_back(l - logE[v]);
-      logAlbedo[p] = median(r);
+      logAlbedo[p] = center(r, robust);
     }
     for (int v = 1; v < viewCount; ++v) {
       std::vector<double> r;
       for (size_t p = 0; p < seen.size(); ++p)
         for (const auto& [w, l] : seen[p])
           if (w == v) r.push_back(l - logAlbedo[p]);
-      if (!r.empty()) logE[v] = median(r);
+      if (!r.empty()) logE[v] = center(r, robust);
     }
-    // view 0 is the reference: its offset moves to the albedos
-    const double shift = logE[0];
-    for (double& e : logE) e -= shift;
   }
   std::vector<double> e;
   for (double l : logE) e.push_back(std::exp(l));

@@ -268,6 +268,13 @@ TEST(Align_ViewChoice, exposures_from_the_parts_two_views_share) {
   EXPECT_EQ(estimateExposures(parts, 1), std::vector<double>{1.0});
   // a view no part is seen in keeps 1
   EXPECT_DOUBLE_EQ(estimateExposures(parts, 4)[3], 1.0);
+  // one photo twice as bright: its exposure doubles, the others do not move
+  for (auto& obs : parts)
+    for (PartObservation& o : obs)
+      if (o.view == 1) o.medianColor *= 2.0f;
+  const std::vector<double> twice = estimateExposures(parts, 3);
+  EXPECT_NEAR(twice[1] / got[1], 2.0, 1e-4);
+  EXPECT_NEAR(twice[2] / got[2], 1.0, 1e-4);
 }
 
 }  // namespace
