@@ -34,7 +34,9 @@ class LightsStage : public Stage {
       decl.after.insert(decl.after.end(), {"lights0", "select", "fit", "refine0"});
     }
     decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
-    decl.version = 2;  // 2: float photos (EXR, HDR) are not clipped at 0.99
+    // 2: float photos (EXR, HDR) are not clipped at 0.99; 3: the photos divided by the
+    // exposures known before the solve
+    decl.version = 3;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -62,7 +64,10 @@ class LightsStage : public Stage {
       ro.seed = in.seed() + 17 * v;
       const std::vector<cv::Mat> perLight = tracer.renderPerLight(in.camera(v), ro);
       lighting::ViewLightData d;
-      d.photo = photo.clone();
+      // the photo divided by the exposure known so far (observe's estimate, or lights0's): the
+      // solve finds what is left of it, close to 1, so that scaling one photo scales its
+      // exposure and changes nothing else (the alternation does not start far from it)
+      d.photo = photo / exposure_[v];
       d.mask = ctx.views[v].lightMask.clone();
       if (!io::readImageInfo(scene.views[v].imagePath).isFloat) {
         // an integer-coded photo clips at 1: its saturated pixels (any channel) say nothing; a
@@ -95,7 +100,8 @@ class LightsStage : public Stage {
     const lighting::LightSolution s = lighting::solveLights(data, so);
     spdlog::info("{}: {}", decl.name, s.summary());
     intensity_ = s.intensity;
-    exposure_ = s.exposure;
+    for (size_t v = 0; v < exposure_.size() && v < s.exposure.size(); ++v)
+      exposure_[v] *= s.exposure[v] / s.exposure[0];
     return true;
   }
   void save(const Context&, int, Archive& a) const override {
