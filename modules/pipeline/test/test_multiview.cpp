@@ -3,14 +3,17 @@
 // exposure), and the same case with one view's photo twice as bright.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <set>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/pipeline.hpp"
 #include "photoscene/raytrace.hpp"
+#include "photoscene/report.hpp"
 #include "photoscene/scene.hpp"
 
 namespace ps {
@@ -233,6 +236,18 @@ TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
   }
   EXPECT_GE(both, 5) << "parts seen in both views";
   EXPECT_GE(fittedInNovel0, 1) << "no part was fitted in the second view";
+  // `photoscene check OUT` and the report list the views, their exposures and each part's view
+  const report::ViewsSummary s = report::summarizeViews(o.out);
+  ASSERT_EQ(s.views.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.views[1].exposure, r.exposure[1]);
+  EXPECT_EQ(s.views[0].parts + s.views[1].parts,
+            static_cast<int>(
+                std::count_if(s.parts.begin(), s.parts.end(),
+                              [](const report::ViewsSummary::Part& p) { return p.view >= 0; })));
+  EXPECT_NE(report::viewsText(s).find("view 1*"), std::string::npos) << report::viewsText(s);
+  std::ifstream html(o.out / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("id=\"view-choice\""), std::string::npos);
 }
 
 }  // namespace
