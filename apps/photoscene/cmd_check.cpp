@@ -1,9 +1,12 @@
 // `photoscene check SCENE.json`: validates a scene the way `run` does and prints what it holds.
-// (Not in the spec's list: an added subcommand; it writes nothing.)
+// `photoscene check OUT`: the same for a twin output folder (its scene.json, lights.json and
+// materials, as `render` loads them), then its views with their exposures and the view each part
+// was fitted in. (Not in the spec's list: an added subcommand; it writes nothing.)
 #include <fmt/format.h>
 
 #include "commands.hpp"
 #include "photoscene/core/memory.hpp"
+#include "photoscene/report/views_summary.hpp"
 #include "photoscene/scene.hpp"
 
 namespace ps::app {
@@ -38,9 +41,14 @@ void printSummary(const Scene& scene) {
 void addCheckCommand(CLI::App& root) {
   auto* cmd = root.add_subcommand("check", "Validate a scene.json (and every file it names) and summarize it");
   auto scenePath = std::make_shared<std::string>();
-  cmd->add_option("scene", *scenePath, "scene.json")->required();
+  cmd->add_option("scene", *scenePath, "scene.json, or a twin output folder")->required();
   cmd->callback([scenePath] {
-    printSummary(loadScene(*scenePath));
+    if (std::filesystem::is_directory(*scenePath)) {
+      printSummary(loadTwin(*scenePath).scene);
+      fmt::print("{}", report::viewsText(report::summarizeViews(*scenePath)));
+    } else {
+      printSummary(loadScene(*scenePath));
+    }
     fmt::print("peak memory {:.0f} MiB\n", peakMemoryMiB());
   });
 }

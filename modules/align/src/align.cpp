@@ -394,41 +394,123 @@ cv::Vec3f maskedMedian(const cv::Mat& image, const cv::Mat& mask) {
   return out;
 }
 
-ViewChoice chooseView(const std::vector<PartObservation>& obs) {
+namespace {
+
+double logLuminance(const cv::Vec3f& c, double exposure) {
+  const double lum = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+  return std::log(std::max(1e-4, lum / exposure));
+}
+
+double exposureOf(const std::vector<double>& exposure, int view) {
+  return view >= 0 && view < static_cast<int>(exposure.size()) && exposure[view] > 0
+             ? exposure[view]
+             : 1.0;
+}
+
+/// The median (the mean of the two middle values for an even count).
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+ViewChoice chooseView(const std::vector<PartObservation>& obs,
+                      const std::vector<double>& exposure) {
   ViewChoice choice;
   if (obs.empty()) {
     choice.reason = "no view sees the part";
     return choice;
   }
-  // median over views of the log median colors
+  // the log median colours, exposure-corrected
+  std::vector<cv::Vec3d> logColor;
+  for (const auto& o : obs) {
+    const double e = exposureOf(exposure, o.view);
+    cv::Vec3d l;
+    for (int c = 0; c < 3; ++c) l[c] = std::log(std::max(1e-4, o.medianColor[c] / e));
+    logColor.push_back(l);
+  }
+  // the reference: median over views (three or more), the darker view (two)
   cv::Vec3d center(0, 0, 0);
-  for (int c = 0; c < 3; ++c) {
-    std::vector<double> v;
-    for (const auto& o : obs) v.push_back(std::log(std::max(1e-4f, o.medianColor[c])));
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    center[c] = v[v.size() / 2];
+  if (obs.size() > 2) {
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> v;
+      for (const cv::Vec3d& l : logColor) v.push_back(l[c]);
+      center[c] = median(v);
+    }
+  } else if (obs.size() == 2) {
+    const bool firstDarker = logLuminance(obs[0].medianColor, exposureOf(exposure, obs[0].view)) <=
+                             logLuminance(obs[1].medianColor, exposureOf(exposure, obs[1].view));
+    center = logColor[firstDarker ? 0 : 1];
   }
   double best = -1;
   for (size_t i = 0; i < obs.size(); ++i) {
     const auto& o = obs[i];
     double d2 = 0;
     for (int c = 0; c < 3; ++c) {
-      const double d = std::log(std::max(1e-4f, o.medianColor[c])) - center[c];
+      const double d = logColor[i][c] - center[c];
       d2 += d * d / 3;
     }
-    const double agreement = obs.size() > 2 ? std::exp(-d2 / (2 * 0.25 * 0.25)) : 1.0;
+    const double agreement = obs.size() > 1 ? std::exp(-d2 / (2 * 0.25 * 0.25)) : 1.0;
     const double score = o.pixels * std::max(0.0, o.meanCosine) * agreement;
     choice.scores.push_back(score);
+    choice.agreement.push_back(agreement);
     if (score > best) {
       best = score;
       choice.view = o.view;
     }
   }
   char buf[160];
-  std::snprintf(buf, sizeof buf, "best of %zu views: score pixels x mean cos x appearance agreement = %.1f",
+  std::snprintf(buf, sizeof buf,
+                "best of %zu views: score pixels x mean cos x appearance agreement = %.1f",
                 obs.size(), best);
   choice.reason = buf;
   return choice;
+}
+
+std::vector<double> estimateExposures(const std::vector<std::vector<PartObservation>>& parts,
+                                      int viewCount, int minPixels) {
+  std::vector<double> logE(std::max(0, viewCount), 0.0);
+  if (viewCount < 2) return std::vector<double>(logE.size(), 1.0);
+  // per part seen (well enough) in two or more views: (view, log luminance)
+  std::vector<std::vector<std::pair<int, double>>> seen;
+  for (const auto& obs : parts) {
+    std::vector<std::pair<int, double>> s;
+    for (const PartObservation& o : obs)
+      if (o.pixels >= minPixels && o.view >= 0 && o.view < viewCount)
+        s.emplace_back(o.view, logLuminance(o.medianColor, 1.0));
+    if (s.size() >= 2) seen.push_back(std::move(s));
+  }
+  if (seen.empty()) return std::vector<double>(logE.size(), 1.0);
+  // Least squares first (alternating means: its fixed point is unique and moves with the data,
+  // so scaling one photo moves only its exposure), then medians from there (robust to a
+  // highlight); every step commutes with scaling a photo, so the result does too.
+  std::vector<double> logAlbedo(seen.size(), 0.0);
+  auto center = [](const std::vector<double>& r, bool robust) {
+    if (robust) return median(r);
+    double sum = 0;
+    for (double x : r) sum += x;
+    return sum / static_cast<double>(r.size());
+  };
+  for (int it = 0; it < 200; ++it) {
+    const bool robust = it >= 150;
+    for (size_t p = 0; p < seen.size(); ++p) {
+      std::vector<double> r;
+      for (const auto& [v, l] : seen[p]) r.push_back(l - logE[v]);
+      logAlbedo[p] = center(r, robust);
+    }
+    for (int v = 1; v < viewCount; ++v) {
+      std::vector<double> r;
+      for (size_t p = 0; p < seen.size(); ++p)
+        for (const auto& [w, l] : seen[p])
+          if (w == v) r.push_back(l - logAlbedo[p]);
+      if (!r.empty()) logE[v] = center(r, robust);
+    }
+  }
+  std::vector<double> e;
+  for (double l : logE) e.push_back(std::exp(l));
+  return e;
 }
 
 }  // namespace ps::align

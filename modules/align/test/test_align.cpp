@@ -230,5 +230,52 @@ TEST(Align_ViewChoice, prefers_large_frontal_agreeing_views) {
   EXPECT_FLOAT_EQ(med[1], 0.4f);
 }
 
+TEST(Align_ViewChoice, two_views_prefer_the_darker_one_where_they_disagree_after_exposure) {
+  // view 1's photo is twice as bright overall (exposure 2): its median agrees after the division
+  std::vector<PartObservation> obs = {
+      {0, 5000, 0.9, cv::Vec3f(0.3f, 0.3f, 0.3f)},
+      {1, 6000, 0.9, cv::Vec3f(0.6f, 0.62f, 0.58f)},
+  };
+  ViewChoice c = chooseView(obs, {1.0, 2.0});
+  EXPECT_EQ(c.view, 1) << c.reason;  // larger, and agreeing once the exposure is taken out
+  ASSERT_EQ(c.agreement.size(), 2u);
+  EXPECT_GT(c.agreement[1], 0.9);
+  // without the exposure the brighter view looks like a highlight: the darker one wins
+  c = chooseView(obs);
+  EXPECT_EQ(c.view, 0) << c.reason;
+  EXPECT_LT(c.agreement[1], 0.1);
+  EXPECT_DOUBLE_EQ(c.agreement[0], 1.0);
+}
+
+TEST(Align_ViewChoice, exposures_from_the_parts_two_views_share) {
+  // four parts; view 1 at exposure 0.5, view 2 at 1.6; one part has a highlight in view 2
+  const double e[3] = {1.0, 0.5, 1.6};
+  const float albedo[4] = {0.2f, 0.5f, 0.35f, 0.7f};
+  std::vector<std::vector<PartObservation>> parts(4);
+  for (int p = 0; p < 4; ++p)
+    for (int v = 0; v < 3; ++v) {
+      float x = static_cast<float>(albedo[p] * e[v]);
+      if (p == 3 && v == 2) x *= 1.8f;  // the highlight
+      parts[p].push_back({v, 1000, 0.8, cv::Vec3f(x, x, x)});
+    }
+  parts.push_back({{0, 10, 0.8, cv::Vec3f(0.9f, 0.9f, 0.9f)},  // too small to count
+                   {1, 10, 0.8, cv::Vec3f(0.01f, 0.01f, 0.01f)}});
+  const std::vector<double> got = estimateExposures(parts, 3);
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_DOUBLE_EQ(got[0], 1.0);
+  EXPECT_NEAR(got[1], 0.5, 0.01);
+  EXPECT_NEAR(got[2], 1.6, 0.05);
+  EXPECT_EQ(estimateExposures(parts, 1), std::vector<double>{1.0});
+  // a view no part is seen in keeps 1
+  EXPECT_DOUBLE_EQ(estimateExposures(parts, 4)[3], 1.0);
+  // one photo twice as bright: its exposure doubles, the others do not move
+  for (auto& obs : parts)
+    for (PartObservation& o : obs)
+      if (o.view == 1) o.medianColor *= 2.0f;
+  const std::vector<double> twice = estimateExposures(parts, 3);
+  EXPECT_NEAR(twice[1] / got[1], 2.0, 1e-4);
+  EXPECT_NEAR(twice[2] / got[2], 1.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace ps::align

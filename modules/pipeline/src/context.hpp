@@ -52,6 +52,15 @@ struct ViewWork {
 /// `photo` warped into the render frame for a part (the align stage's warp of that part).
 cv::Mat partPhoto(const cv::Mat& photo, const ViewWork& view, int part);
 
+/// How one view sees one part (observe), as the materials file's `fit.views` records it.
+struct ViewSeen {
+  int view = 0;
+  int pixels = 0;         ///< M_aln pixels
+  double meanCosine = 0;  ///< mean |cos| between the surface normal and the view direction
+  double agreement = 1;   ///< appearance agreement with the other views (align::chooseView)
+  double score = 0;       ///< pixels x mean cos x agreement: the largest is the part's view
+};
+
 enum class PartMode { Fit, Homogeneous, Fixed, Skip, Emitter, Window, Unseen };
 const char* partModeName(PartMode m);
 
@@ -65,7 +74,8 @@ struct PartWork {
   // observe (and parts: the fixed material)
   int view = -1;                         ///< the view it is fitted in
   int pixels = 0;                        ///< M_aln pixels in that view
-  Vec3f median = Vec3f::Constant(0.5f);  ///< median photo colour over M_aln (linear)
+  Vec3f median = Vec3f::Constant(0.5f);  ///< median photo colour over M_aln / exposure (linear)
+  std::vector<ViewSeen> seen;            ///< every view that sees the part
   // select
   std::string graph = "homogeneous", category = "homogeneous";
   std::vector<std::string> runnersUp;
@@ -114,8 +124,15 @@ class Context {
  public:
   std::vector<ViewWork> views;
   std::vector<PartWork> parts;
-  float albedoPin = 1.0f;        ///< observe: scale from photo medians to neutral albedos
-  std::vector<double> exposure;  ///< lights0, then lights1: per view
+  float albedoPin = 1.0f;  ///< observe: scale from photo medians to neutral albedos
+  /// Per view: observe's estimate from the photos alone, then the solves of lights0 and lights1.
+  /// The fit and refine stages compare their renders with photo / exposure[view].
+  std::vector<double> exposure;
+  double viewExposure(int view) const {
+    return view >= 0 && view < static_cast<int>(exposure.size()) && exposure[view] > 0
+               ? exposure[view]
+               : 1.0;
+  }
   std::unique_ptr<StageCache> cache;
   PipelineResult result;
   Timer clock;  ///< since the run started

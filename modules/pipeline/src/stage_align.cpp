@@ -65,6 +65,9 @@ class AlignStage : public Stage {
   }
 };
 
+// Every part's observations in every view first (for the views' relative exposure, estimated
+// from the parts they share), then per part the view chooseView picks with exposure-corrected
+// appearance, and its median colour divided by that view's exposure.
 class ObserveStage : public Stage {
  public:
   ObserveStage() {
@@ -73,24 +76,16 @@ class ObserveStage : public Stage {
     decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
     decl.options = {"work_width"};
     decl.after = {"parts", "geometry", "align"};
-    decl.writes = {"PartWork::view", "PartWork::pixels", "PartWork::median", "PartMode::Unseen"};
+    decl.writes = {"PartWork::view", "PartWork::pixels", "PartWork::median",
+                   "PartWork::seen", "PartMode::Unseen", "Context::exposure (estimate)"};
     decl.cached = false;
   }
 
   bool compute(Context& ctx, const Reads& in, int u) override {
+    if (obs_.empty()) observeAll(ctx, in);
     PartWork& p = ctx.parts[u];
-    std::vector<align::PartObservation> obs;
-    for (int v = 0; v < in.viewCount(); ++v) {
-      const ViewWork& view = ctx.views[v];
-      const auto it = view.fitMask.find(p.id);
-      if (it == view.fitMask.end()) continue;
-      const auto o = align::observePart(partPhoto(in.photo(v), view, p.id), it->second,
-                                        view.gbuffer.normalShading, view.gbuffer.position,
-                                        in.camera(v).position());
-      if (!o) continue;
-      obs.push_back(*o);
-      obs.back().view = v;
-    }
+    const std::vector<align::PartObservation>& obs = obs_[u];
+    p.seen.clear();
     if (obs.empty()) {
       if (p.mode == PartMode::Fit) {
         p.mode = PartMode::Unseen;
@@ -98,17 +93,53 @@ class ObserveStage : public Stage {
       }
       return true;
     }
-    const align::ViewChoice choice = align::chooseView(obs);
-    for (const align::PartObservation& o : obs)
+    const align::ViewChoice choice = align::chooseView(obs, ctx.exposure);
+    for (size_t i = 0; i < obs.size(); ++i) {
+      const align::PartObservation& o = obs[i];
+      p.seen.push_back({o.view, o.pixels, o.meanCosine, choice.agreement[i], choice.scores[i]});
       if (o.view == choice.view) {
+        const float e = static_cast<float>(ctx.viewExposure(o.view));
         p.view = o.view;
         p.pixels = o.pixels;
-        p.median = Vec3f(o.medianColor[0], o.medianColor[1], o.medianColor[2]);
+        p.median = Vec3f(o.medianColor[0], o.medianColor[1], o.medianColor[2]) / e;
       }
+    }
     return true;
   }
   void save(const Context&, int, Archive&) const override {}
   bool load(Context&, const Reads&, int, Archive&) override { return false; }
+  void finish(Context&, const Reads&) override { obs_.clear(); }
+
+ private:
+  void observeAll(Context& ctx, const Reads& in) {
+    obs_.assign(ctx.parts.size(), {});
+    for (size_t u = 0; u < ctx.parts.size(); ++u) {
+      const PartWork& p = ctx.parts[u];
+      for (int v = 0; v < in.viewCount(); ++v) {
+        const ViewWork& view = ctx.views[v];
+        const auto it = view.fitMask.find(p.id);
+        if (it == view.fitMask.end()) continue;
+        const auto o = align::observePart(partPhoto(in.photo(v), view, p.id), it->second,
+                                          view.gbuffer.normalShading, view.gbuffer.position,
+                                          in.camera(v).position());
+        if (!o) continue;
+        obs_[u].push_back(*o);
+        obs_[u].back().view = v;
+      }
+    }
+    // emitters (saturated) and openings (the environment) say nothing about the exposure
+    std::vector<std::vector<align::PartObservation>> surfaces;
+    for (size_t u = 0; u < ctx.parts.size(); ++u)
+      if (ctx.parts[u].mode != PartMode::Emitter && ctx.parts[u].mode != PartMode::Window)
+        surfaces.push_back(obs_[u]);
+    ctx.exposure = align::estimateExposures(surfaces, in.viewCount());
+    if (in.viewCount() > 1) {
+      std::string s;
+      for (double e : ctx.exposure) s += fmt::format(" {:.3f}", e);
+      spdlog::info("observe: exposure estimated from the parts the views share:{}", s);
+    }
+  }
+  std::vector<std::vector<align::PartObservation>> obs_;  ///< per part, set by the first unit
 };
 
 // The scale pin: neutral albedos = photo medians x pin, with a pixel-weighted mean luminance of

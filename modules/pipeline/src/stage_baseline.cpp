@@ -32,7 +32,8 @@ class BaselineStage : public Stage {
       const PartGeometry geo =
           preparePartGeometry(view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid,
                               view.fitMask.at(p.id), p.id);
-      p.albedo = shadingMedianAlbedo(geo, partPhoto(in.photo(p.view), view, p.id));
+      p.albedo = shadingMedianAlbedo(
+          geo, partPhoto(in.photo(p.view), view, p.id) / ctx.viewExposure(p.view));
     }
     setHomogeneous(p);
     return true;

@@ -136,10 +136,20 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       m.fitExtra["pixels"] = p.pixels;
       m.fitExtra["iterations"] = p.iterations;
       m.fitExtra["refine_loss"] = p.refineLoss;
+      if (ctx.views.size() > 1)  // how every view sees the part: the largest score is fit.view
+        for (const ViewSeen& s : p.seen)
+          m.fitExtra["views"].push_back({{"view", s.view},
+                                         {"pixels", s.pixels},
+                                         {"mean_cosine", s.meanCosine},
+                                         {"agreement", s.agreement},
+                                         {"score", s.score},
+                                         {"exposure", ctx.viewExposure(s.view)}});
       if (!p.runnersUp.empty()) m.fitExtra["runners_up"] = p.runnersUp;
       for (const GraphVote& v : p.candidates)
-        m.fitExtra["candidates"].push_back(
-            {{"graph", v.graph}, {"category", v.category}, {"score", v.weight}, {"votes", v.count}});
+        m.fitExtra["candidates"].push_back({{"graph", v.graph},
+                                            {"category", v.category},
+                                            {"score", v.weight},
+                                            {"votes", v.count}});
       for (const PartWork::Finalist& f : p.finalists)
         m.fitExtra["finalists"].push_back({{"graph", f.graph},
                                            {"category", f.category},

@@ -15,8 +15,9 @@ namespace {
 
 // The fit's version: 2 = the spectral UV prior and `balanced` at 100 steps; 3 = the
 // full-resolution steps after the coarse phase at a quarter of the learning rate; 4 = `balanced`
-// at 40 steps, `fast` at 30; 5 = the placement term (Eq. 9's pixel term) in `balanced`.
-constexpr uint64_t kFitVersion = 5;
+// at 40 steps, `fast` at 30; 5 = the placement term (Eq. 9's pixel term) in `balanced`; 6 = the
+// photo divided by its view's exposure (parts fitted in a view other than view 0).
+constexpr uint64_t kFitVersion = 6;
 
 class FitStage : public Stage {
  public:
@@ -41,7 +42,8 @@ class FitStage : public Stage {
     PartWork& p = ctx.parts[u];
     const ViewWork& view = ctx.views[p.view];
     Timer timer;
-    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id);
+    // the photo as the render sees it: divided by the view's exposure (lights0's, or lights1's)
+    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id) / ctx.viewExposure(p.view);
     const cv::Mat& mask = view.fitMask.at(p.id);
     const PartGeometry geo = preparePartGeometry(
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);

@@ -5,13 +5,18 @@
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
+#include <limits>
+
 #include "photoscene/core.hpp"
+#include "photoscene/io.hpp"
 #include "photoscene/lighting.hpp"
 #include "stages.hpp"
 
 namespace ps::pipeline {
 
 namespace {
+
+constexpr double kSaturation = 0.99;  ///< linear value at which an 8/16-bit photo is clipped
 
 class LightsStage : public Stage {
  public:
@@ -29,6 +34,9 @@ class LightsStage : public Stage {
       decl.after.insert(decl.after.end(), {"lights0", "select", "fit", "refine0"});
     }
     decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
+    // 2: float photos (EXR, HDR) are not clipped at 0.99; 3: the photos divided by the
+    // exposures known before the solve
+    decl.version = 3;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -36,7 +44,10 @@ class LightsStage : public Stage {
     const std::vector<int>& freeLights = in.freeLights();
     const bool hasEnv = scene.lights.environment.has_value();
     intensity_.clear();
-    exposure_.assign(ctx.views.size(), 1.0);
+    // without a solve (every emitter given), the exposures stay as observe estimated them
+    exposure_.resize(ctx.views.size());
+    for (size_t v = 0; v < exposure_.size(); ++v)
+      exposure_[v] = ctx.viewExposure(static_cast<int>(v));
     if (freeLights.empty() && !hasEnv) return false;  // every emitter has a given radiance
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
@@ -53,8 +64,18 @@ class LightsStage : public Stage {
       ro.seed = in.seed() + 17 * v;
       const std::vector<cv::Mat> perLight = tracer.renderPerLight(in.camera(v), ro);
       lighting::ViewLightData d;
-      d.photo = photo.clone();
+      // the photo divided by the exposure known so far (observe's estimate, or lights0's): the
+      // solve finds what is left of it, close to 1, so that scaling one photo scales its
+      // exposure and changes nothing else (the alternation does not start far from it)
+      d.photo = photo / exposure_[v];
       d.mask = ctx.views[v].lightMask.clone();
+      if (!io::readImageInfo(scene.views[v].imagePath).isFloat) {
+        // an integer-coded photo clips at 1: its saturated pixels (any channel) say nothing; a
+        // float photo (EXR, HDR) does not clip, and all of it counts at any exposure
+        std::vector<cv::Mat> ch;
+        cv::split(photo, ch);
+        for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation);
+      }
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
       for (size_t k = 0; k < scene.lights.area.size(); ++k) {
         const auto& r = scene.lights.area[k].radiance;
@@ -74,11 +95,13 @@ class LightsStage : public Stage {
       data.push_back(std::move(d));
     }
     lighting::SolveOptions so;
+    so.saturation = std::numeric_limits<double>::infinity();  // per view above
     so.perViewExposure = ctx.views.size() > 1;
     const lighting::LightSolution s = lighting::solveLights(data, so);
     spdlog::info("{}: {}", decl.name, s.summary());
     intensity_ = s.intensity;
-    exposure_ = s.exposure;
+    for (size_t v = 0; v < exposure_.size() && v < s.exposure.size(); ++v)
+      exposure_[v] *= s.exposure[v] / s.exposure[0];
     return true;
   }
   void save(const Context&, int, Archive& a) const override {

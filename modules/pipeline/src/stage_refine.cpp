@@ -24,6 +24,7 @@ class RefineStage : public Stage {
         "PartWork: albedoScale, albedoOffset, roughnessFactor, refineLoss; homogeneous albedo, "
         "roughness"};
     decl.parallel = true;
+    decl.version = 2;  // 2: the photo divided by its view's exposure
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -33,7 +34,8 @@ class RefineStage : public Stage {
   bool compute(Context& ctx, const Reads& in, int u) override {
     PartWork& p = ctx.parts[u];
     const ViewWork& view = ctx.views[p.view];
-    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id);
+    // the photo as the render sees it: divided by the view's exposure (lights0's, or lights1's)
+    const cv::Mat photo = partPhoto(in.photo(p.view), view, p.id) / ctx.viewExposure(p.view);
     const cv::Mat& mask = view.fitMask.at(p.id);
     const PartGeometry geo = preparePartGeometry(
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);

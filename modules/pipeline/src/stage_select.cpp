@@ -64,7 +64,8 @@ class SelectStage : public Stage {
       p.graph = c.graph;
       if ((synthesis.shortlist > 0 || synthesis.categories > 0) && cv::countNonZero(fit) > 0) {
         // the vote shortlists; short fits on the part itself decide (and texture or not)
-        const cv::Mat part = partPhoto(photo, view, p.id);
+        // the photo as the render sees it: divided by the view's exposure (as the fit stage)
+        const cv::Mat part = partPhoto(photo, view, p.id) / ctx.viewExposure(p.view);
         const PartGeometry geo = preparePartGeometry(view.gbuffer, camera.position().cast<float>(),
                                                      view.grid, fit, p.id);
         if (geo.size() >= 16) {

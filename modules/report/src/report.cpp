@@ -20,6 +20,7 @@
 #include "photoscene/io/image_io.hpp"
 #include "photoscene/io/obj_io.hpp"
 #include "photoscene/io/scene_json.hpp"
+#include "photoscene/report/views_summary.hpp"
 #include "photoscene/scene/gltf_export.hpp"
 #include "photoscene/scene/material.hpp"
 
@@ -608,6 +609,13 @@ ReportSummary writeReport(const fs::path& outDir, const ReportOptions& options) 
   }
   if (views.empty()) h << "<p class=\"missing\">scene.json has no views.</p>";
   h << "</div></section>\n";
+
+  // views, their exposures and each part's view (views_summary.cpp)
+  try {
+    h << report::viewsHtml(report::summarizeViews(outDir));
+  } catch (const std::exception& e) {
+    h << "<p class=\"missing\">" << html(std::string("views table: ") + e.what()) << "</p>\n";
+  }
 
   // per-part table
   h << "<section id=\"parts\"><h2>Materials per part</h2>\n";

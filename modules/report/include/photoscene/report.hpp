@@ -5,3 +5,4 @@
 
 #include "photoscene/report/report.hpp"
 #include "photoscene/report/static_file_server.hpp"
+#include "photoscene/report/views_summary.hpp"

@@ -135,15 +135,31 @@ struct PartObservation {
 
 struct ViewChoice {
   int view = -1;
-  std::vector<double> scores;  ///< per observation, same order
+  std::vector<double> scores;     ///< per observation, same order
+  std::vector<double> agreement;  ///< per observation, the appearance agreement in [0, 1]
   std::string reason;
 };
 
 /// Picks the view that sees a part best: score = pixels * meanCosine * agreement, where agreement
-/// = exp(-d^2 / (2 * 0.25^2)) (with three or more views) and d is the distance (in log color) of the view's median
-/// color from the median over views: a view whose appearance disagrees with the others
-/// (highlight, occluder, mislabel) is down-weighted.
-ViewChoice chooseView(const std::vector<PartObservation>& observations);
+/// = exp(-d^2 / (2 * 0.25^2)) and d is the distance (in log color) of the view's median color,
+/// divided by the view's exposure, from a reference color: a view whose appearance disagrees with
+/// the others (highlight, occluder, mislabel) is down-weighted. The reference is the median over
+/// views with three or more views; with two, the darker of the two (exposure-corrected luminance):
+/// what brightens one view of a surface and not the other is mostly a highlight or glare, which a
+/// diffuse fit must not follow; with one view, agreement is 1.
+/// @param exposure per view (index = PartObservation::view); empty or shorter: 1
+ViewChoice chooseView(const std::vector<PartObservation>& observations,
+                      const std::vector<double>& exposure = {});
+
+/// Relative exposures of `viewCount` views from the parts several of them see (before any light
+/// is known): a Lambertian surface sends the same radiance to every camera, so the log ratio of
+/// two views' median colours of one part is the log ratio of their exposures plus noise (other
+/// pixels of the surface, highlights). Solves log e_v - log e_u = median over parts of the log
+/// luminance differences, alternating with each part's log albedo, exposure[0] = 1. Views that
+/// share no part (of at least `minPixels` M_aln pixels) with the others keep 1.
+/// @param observations per part, its observations (any order; PartObservation::view set)
+std::vector<double> estimateExposures(const std::vector<std::vector<PartObservation>>& observations,
+                                      int viewCount, int minPixels = 50);
 
 /// Per-channel median of `image` over `mask` (CV_32FC3, CV_8UC1).
 cv::Vec3f maskedMedian(const cv::Mat& image, const cv::Mat& mask);

@@ -1,0 +1,254 @@
+// The pipeline with several photos of one room: a synthetic case made here from the bundled
+// sample's geometry and lights with one known albedo per part (three views, each at its own
+// exposure), and the same case with one view's photo twice as bright.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+
+#include "photoscene/core.hpp"
+#include "photoscene/io.hpp"
+#include "photoscene/pipeline.hpp"
+#include "photoscene/raytrace.hpp"
+#include "photoscene/report.hpp"
+#include "photoscene/scene.hpp"
+
+namespace ps {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSample = fs::path(PS_SOURCE_DIR) / "samples/data/living-room";
+
+constexpr int kWidth = 160, kHeight = 120;
+
+/// The cameras of the synthetic case: the sample's view 0, its novel view, and one from the door.
+std::vector<io::CameraDesc> cameras() {
+  return {io::lookAtCamera(kWidth, kHeight, 62, Vec3d(-2.1, 1.55, 1.75), Vec3d(0.4, 0.55, -1.3)),
+          io::lookAtCamera(kWidth, kHeight, 58, Vec3d(2.0, 1.4, 1.6), Vec3d(-0.8, 0.5, -1.2)),
+          io::lookAtCamera(kWidth, kHeight, 60, Vec3d(0.3, 1.7, 1.9), Vec3d(-0.3, 0.3, -1.5))};
+}
+
+/// The true albedo of part `id`: distinct colours from dark to light.
+Vec3f trueAlbedo(int id) {
+  static const Vec3f palette[] = {
+      {0.55f, 0.45f, 0.35f}, {0.80f, 0.80f, 0.78f}, {0.60f, 0.62f, 0.55f}, {0.50f, 0.55f, 0.65f},
+      {0.70f, 0.40f, 0.30f}, {0.35f, 0.50f, 0.40f}, {0.25f, 0.30f, 0.50f}, {0.45f, 0.20f, 0.20f},
+      {0.65f, 0.55f, 0.35f}, {0.30f, 0.30f, 0.30f}, {0.75f, 0.65f, 0.55f}};
+  return palette[id % 11];
+}
+
+/// Renders the sample's exact geometry and lights, every part homogeneous (trueAlbedo, roughness
+/// 0.8), from every camera, times `exposure[v]`, as linear EXR photos with label images, and
+/// writes DIR/scene.json over the coarse geometry with the two ceiling lights to fit and every
+/// part's graph `homogeneous` (the fit in closed form: what is tested is the exposure).
+void makeCase(const fs::path& dir, const std::vector<double>& exposure) {
+  fs::create_directories(dir / "photos");
+  fs::create_directories(dir / "segments");
+  const Twin twin = loadTwin(kSample / "gt/twin");
+  std::vector<PartMaterial> materials;
+  for (const Part& p : twin.scene.parts) {
+    PartMaterial m = PartMaterial::defaultGray(p.name);
+    m.albedo = trueAlbedo(p.id);
+    m.roughness = 0.8f;
+    materials.push_back(m);
+  }
+  const PathTracer tracer(twin.scene, materials);
+  RenderOptions ro;
+  ro.spp = 64;
+  ro.seed = 5;
+  nlohmann::json views = nlohmann::json::array();
+  const std::vector<io::CameraDesc> cams = cameras();
+  for (size_t v = 0; v < cams.size(); ++v) {
+    const Camera cam = Camera::fromDesc(cams[v]);
+    cv::Mat photo = tracer.render(cam, ro) * exposure[v];
+    const std::string name = "view" + std::to_string(v);
+    io::writeImage(dir / "photos" / (name + ".exr"), photo);
+    const GBuffer gb = renderGBuffer(tracer, cam);
+    cv::Mat labels(gb.partId.size(), CV_16UC1, cv::Scalar(0));
+    nlohmann::json pinned = nlohmann::json::object();
+    for (int y = 0; y < labels.rows; ++y)
+      for (int x = 0; x < labels.cols; ++x)
+        if (const int p = gb.partId.at<int>(y, x); p >= 0) {
+          labels.at<uint16_t>(y, x) = static_cast<uint16_t>(1000 + p);
+          pinned[std::to_string(1000 + p)] = twin.scene.parts[p].name;
+        }
+    io::writeRawImage(dir / "segments" / (name + ".png"), labels);
+    views.push_back({{"image", "photos/" + name + ".exr"},
+                     {"color_space", "linear"},
+                     {"camera", io::cameraToJson(cams[v])},
+                     {"segments", "segments/" + name + ".png"},
+                     {"segment_parts", pinned}});
+  }
+  nlohmann::json scene = io::readJsonFile(kSample / "scene.json");
+  scene["geometry"] = (kSample / "room.obj").string();
+  scene["views"] = views;
+  for (const Part& p : twin.scene.parts) scene["parts"][p.name]["graph"] = "homogeneous";
+  io::writeJsonFile(dir / "scene.json", scene);
+}
+
+PipelineOptions caseOptions(const fs::path& dir) {
+  PipelineOptions o;
+  o.scene = dir / "scene.json";
+  o.out = dir / "twin";
+  o.preset = "balanced";
+  o.textureSize = 64;
+  o.workWidth = kWidth;
+  o.maxFitIterations = 20;
+  o.writeGltf = false;
+  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
+  return o;
+}
+
+/// Per fitted part seen well (fit.pixels at least `minPixels`, the fitted view's mean |cos| at
+/// least `minCosine`): its albedo, and the view it was fitted in.
+std::map<std::string, std::pair<Vec3d, int>> fittedAlbedos(const fs::path& out, int minPixels,
+                                                           double minCosine = 0) {
+  std::map<std::string, std::pair<Vec3d, int>> albedo;
+  for (const auto& e : fs::directory_iterator(out / "materials")) {
+    const nlohmann::json m = io::readJsonFile(e.path());
+    if (!m["fit"].contains("pixels") || m["fit"]["pixels"].get<int>() < minPixels) continue;
+    double cosine = 1;
+    for (const auto& v : m["fit"].value("views", nlohmann::json::array()))
+      if (v["view"] == m["fit"]["view"]) cosine = v["mean_cosine"].get<double>();
+    if (cosine < minCosine) continue;
+    const io::MaterialFileDesc d = io::readMaterialJson(e.path());
+    albedo[d.part] = {d.homogeneous.albedo, *d.fitView};
+  }
+  return albedo;
+}
+
+// Three views at exposures 1, 0.6 and 1.5, run once; then the same case with view 1's photo
+// twice as bright.
+class MultiView : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new io::TempDir("ps-multiview");
+    makeCase(dir_->path() / "a", {1.0, 0.6, 1.5});
+    a_ = new PipelineResult(runPipeline(caseOptions(dir_->path() / "a")));
+  }
+  static void TearDownTestSuite() {
+    delete a_;
+    delete dir_;
+  }
+  static io::TempDir* dir_;
+  static PipelineResult* a_;
+};
+io::TempDir* MultiView::dir_ = nullptr;
+PipelineResult* MultiView::a_ = nullptr;
+
+TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_7_percent) {
+  ASSERT_EQ(a_->exposure.size(), 3u);
+  EXPECT_DOUBLE_EQ(a_->exposure[0], 1.0);
+  EXPECT_NEAR(a_->exposure[1], 0.6, 0.6 * 0.03);
+  EXPECT_NEAR(a_->exposure[2], 1.5, 1.5 * 0.03);
+  // One scale for all albedos stays open (brighter lights, darker materials): the recovered
+  // albedos' luminances are compared after the median ratio over parts. The parts compared are
+  // those a view sees well (at least 300 pixels of M_aln at a mean |cos| of at least 0.3): the
+  // ceiling, seen only at grazing angles and lit only by the walls, is left out.
+  const Scene scene = loadScene(dir_->path() / "a/scene.json", {.loadPhotos = false});
+  const auto got = fittedAlbedos(dir_->path() / "a/twin", 300, 0.3);
+  ASSERT_GE(got.size(), 6u);
+  auto luminance = [](const Vec3d& c) { return 0.2126 * c.x() + 0.7152 * c.y() + 0.0722 * c.z(); };
+  std::vector<double> ratio;
+  for (const auto& [name, a] : got)
+    ratio.push_back(luminance(a.first) / luminance(trueAlbedo(scene.partId(name)).cast<double>()));
+  std::sort(ratio.begin(), ratio.end());
+  const double scale = ratio[ratio.size() / 2];
+  std::set<int> views;
+  for (const auto& [name, a] : got) {
+    const double r =
+        luminance(a.first) / luminance(trueAlbedo(scene.partId(name)).cast<double>()) / scale;
+    std::printf("%-12s view %d  albedo / truth (luminance, scaled) %.3f\n", name.c_str(), a.second,
+                r);
+    // 7 %: measured (balanced, 160 x 120) every part within 3 % but the left wall, fitted in
+    // view 1, at 5.8 % (1.9 % of it the exposure's error); a part that took its view's exposure
+    // into its albedo would be 40 % or 50 % off
+    EXPECT_NEAR(r, 1.0, 0.07) << name << " (fitted in view " << a.second << ")";
+    views.insert(a.second);
+  }
+  EXPECT_GE(views.size(), 2u) << "every part was fitted in one view: the case tests nothing";
+  // the materials file records how each view sees a part
+  const nlohmann::json m = io::readJsonFile(dir_->path() / "a/twin/materials/floor.json");
+  ASSERT_TRUE(m["fit"].contains("views"));
+  EXPECT_GE(m["fit"]["views"].size(), 2u);
+}
+
+TEST_F(MultiView, one_photo_twice_as_bright_doubles_its_exposure_and_keeps_the_albedos) {
+  makeCase(dir_->path() / "b", {1.0, 1.2, 1.5});
+  const PipelineResult b = runPipeline(caseOptions(dir_->path() / "b"));
+  ASSERT_EQ(b.exposure.size(), 3u);
+  EXPECT_NEAR(b.exposure[1] / a_->exposure[1], 2.0, 2.0 * 0.02);
+  EXPECT_NEAR(b.exposure[2] / a_->exposure[2], 1.0, 0.02);
+  const auto pa = fittedAlbedos(dir_->path() / "a/twin", 100);
+  const auto pb = fittedAlbedos(dir_->path() / "b/twin", 100);
+  ASSERT_EQ(pa.size(), pb.size());
+  for (const auto& [name, a] : pa) {
+    ASSERT_TRUE(pb.count(name)) << name;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(pb.at(name).first[c] / a.first[c], 1.0, 0.02)
+          << name << " channel " << c << " (fitted in view " << a.second << ")";
+  }
+}
+
+// ---------------------------------------------------------------- the multi-view example
+
+// scripts/make_multiview_example.py on the shared blender-room case: view0 and novel0 as input
+// views, novel1 held back. Blender rendered every view at one exposure, so the solved exposure of
+// novel0 is 1; the held-back view is scored; parts both views see record both.
+TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
+  const fs::path room = fs::path(PS_SHARED_DATA_DIR) / "examples/blender-room";
+  if (!fs::exists(room / "scene.json") || !fs::exists(room / "gt/novel0_segments.png"))
+    GTEST_SKIP() << "shared data not present: " << room;
+  io::TempDir dir("ps-multiview-example");
+  const std::string cmd =
+      "python3 " + (fs::path(PS_SOURCE_DIR) / "scripts/make_multiview_example.py").string() + " " +
+      room.string() + " " + (dir.path() / "example").string() + " > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  PipelineOptions o;
+  o.scene = dir.path() / "example/two-views/scene.json";
+  o.out = dir.path() / "twin";
+  o.preset = "fast";
+  o.textureSize = 32;
+  o.workWidth = 160;
+  o.maxFitIterations = 5;
+  o.writeGltf = false;
+  o.renderSpp = 8;
+  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
+  const PipelineResult r = runPipeline(o);
+  ASSERT_EQ(r.exposure.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.exposure[0], 1.0);
+  EXPECT_NEAR(r.exposure[1], 1.0, 0.05);
+  const nlohmann::json metrics = io::readJsonFile(o.out / "metrics.json");
+  ASSERT_TRUE(metrics.contains("novel")) << metrics.dump().substr(0, 400);
+  bool novel1 = false;
+  for (const auto& n : metrics["novel"]) novel1 |= n.dump().find("novel1") != std::string::npos;
+  EXPECT_TRUE(novel1) << "the held-back view is not scored";
+  int both = 0, fittedInNovel0 = 0;
+  for (const auto& e : fs::directory_iterator(o.out / "materials")) {
+    const nlohmann::json m = io::readJsonFile(e.path());
+    if (!m["fit"].contains("views")) continue;
+    both += m["fit"]["views"].size() == 2;
+    fittedInNovel0 += m["fit"]["view"] == 1;
+  }
+  EXPECT_GE(both, 5) << "parts seen in both views";
+  EXPECT_GE(fittedInNovel0, 1) << "no part was fitted in the second view";
+  // `photoscene check OUT` and the report list the views, their exposures and each part's view
+  const report::ViewsSummary s = report::summarizeViews(o.out);
+  ASSERT_EQ(s.views.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.views[1].exposure, r.exposure[1]);
+  EXPECT_EQ(s.views[0].parts + s.views[1].parts,
+            static_cast<int>(
+                std::count_if(s.parts.begin(), s.parts.end(),
+                              [](const report::ViewsSummary::Part& p) { return p.view >= 0; })));
+  EXPECT_NE(report::viewsText(s).find("view 1*"), std::string::npos) << report::viewsText(s);
+  std::ifstream html(o.out / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("id=\"view-choice\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ps
