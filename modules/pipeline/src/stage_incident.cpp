@@ -1,6 +1,9 @@
 // Stages `incident0` and `incident1`: per view, the 8 x 16 incident-light grids (raytrace's
 // computeIncidentLight) under the lights of the same round and its materials (neutral, then
 // fitted); the render layer reads them in the fit and the refine.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include "archive_io.hpp"
 #include "stages.hpp"
 
@@ -14,12 +17,13 @@ class IncidentStage : public Stage {
     decl.name = round == 0 ? "incident0" : "incident1";
     decl.unit = Unit::View;
     decl.scene = {"geometry", "up", "lights", "views[].camera", "parts.{}.fixed", "options.seed"};
-    decl.options = {"preset", "work_width"};
+    decl.options = {"preset", "work_width", "baseline"};
     decl.after = {"parts", "geometry", "observe", "pin", "lights0"};
     if (round == 1) {
       decl.options.push_back("library");
       decl.after.insert(decl.after.end(), {"select", "fit", "refine0", "lights1"});
     }
+    decl.version = 2;  // 2: grid points only on the parts fitted in the view
     decl.writes = {"ViewWork::grid"};
   }
 
@@ -33,7 +37,35 @@ class IncidentStage : public Stage {
     o.stride = in.budget().incidentStride;
     o.samplesPerBin = in.budget().incidentSamples;
     o.render.seed = in.seed() + 101 * v;
-    ctx.views[v].grid = computeIncidentLight(*tracer_, ctx.views[v].gbuffer, in.camera(v), o);
+    // only the parts fitted in this view read its grid (fit, refine, baselines)
+    o.parts.assign(in.litScene().parts.size(), 0);
+    int fitted = 0;
+    const bool pixelMedian = in.baseline() == Baseline::PixelMedian;  // reads no grid
+    for (const PartWork& p : ctx.parts)
+      if (!pixelMedian && ((p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) &&
+                           p.view == v && p.id >= 0 && p.id < static_cast<int>(o.parts.size()))) {
+        o.parts[p.id] = 1;
+        ++fitted;
+      }
+    const GBuffer& gb = ctx.views[v].gbuffer;
+    ctx.views[v].grid = computeIncidentLight(*tracer_, gb, in.camera(v), o);
+    const IncidentLightGrid& g = ctx.views[v].grid;
+    int surface = 0, traced = 0;
+    for (int gy = 0; gy < g.height; ++gy)
+      for (int gx = 0; gx < g.width; ++gx) {
+        surface +=
+            gb.partId.at<int>(g.pixelY(gy, gb.partId.rows), g.pixelX(gx, gb.partId.cols)) >= 0;
+        traced += g.valid[static_cast<size_t>(gy) * g.width + gx];
+      }
+    if (traced < surface)
+      spdlog::info("{}: view {}: {} of {} grid points traced, {} skipped: {}", decl.name, v, traced,
+                   surface, surface - traced,
+                   pixelMedian
+                       ? std::string("the pixel-median baseline reads no grid")
+                       : fmt::format("no part fitted in this view there ({} parts are; windows, "
+                                     "emitters, fixed parts and parts fitted in other views read "
+                                     "no grid of this view)",
+                                     fitted));
     return true;
   }
   void save(const Context& ctx, int v, Archive& a) const override { putGrid(a, ctx.views[v].grid); }

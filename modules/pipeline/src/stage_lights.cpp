@@ -1,5 +1,6 @@
 // Stages `lights0` and `lights1`: the radiance of every emitter whose radiance is not given,
-// by non-negative least squares over one-light-at-a-time renders (lighting module); round 0
+// by non-negative least squares over per-light renders (one trace for all lights,
+// PathTracer::renderPerLight; lighting module); round 0
 // under the neutral materials, round 1 under the fitted ones over every view (per-view exposure
 // with several views). The result is written into the scene the later path tracers see.
 #include <opencv2/imgproc.hpp>
@@ -48,10 +49,15 @@ class LightsStage : public Stage {
     exposure_.resize(ctx.views.size());
     for (size_t v = 0; v < exposure_.size(); ++v)
       exposure_[v] = ctx.viewExposure(static_cast<int>(v));
-    if (freeLights.empty() && !hasEnv) return false;  // every emitter has a given radiance
+    if (freeLights.empty() && !hasEnv) {
+      spdlog::info("{}: skipped: every emitter has a given radiance and there is no environment",
+                   decl.name);
+      return false;
+    }
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
-    // the fixed emitters shine at their radiance; the free ones are rendered one at a time
+    // the fixed emitters shine at their radiance; the free ones are each rendered at unit scale
+    // (all in one trace)
     const PathTracer tracer(scene, mats);
     std::vector<uint8_t> isFree(scene.lights.area.size(), 0);
     for (int k : freeLights) isFree[k] = 1;

@@ -5,6 +5,8 @@
 //   BM_Render/<spp>        path tracing view 0 at 320x240; counters: rays/s, RMSE against a
 //                          high-spp reference of this renderer (made once, 1024 spp at 160x120 ->
 //                          compared at 160x120 after area-averaging), time
+//   BM_RenderPerLight/<0|1> the per-light images of view 0 at 320x240, 16 spp: one render per
+//                          light (0) against one trace for all (1, renderPerLight)
 //   BM_IncidentLightGrid   grid at stride 16 on 320x240 (8x16 bins, 4 samples per bin)
 //   BM_IncidentLightRepresentation  measurement: shading error of the 8x16 grid and of SH fits
 //                          against a BSDF-importance-sampled reference, per roughness
@@ -114,6 +116,36 @@ void BM_Render(benchmark::State& state) {
 }
 BENCHMARK(BM_Render)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// The lighting least squares' images of view 0 at 320x240: one trace for every light
+// (renderPerLight, arg 1) against one render per light (arg 0, what it did before).
+void BM_RenderPerLight(benchmark::State& state) {
+  Loaded& l = loaded();
+  if (!l.twin) return state.SkipWithError("blender-room case absent");
+  const Camera cam = l.twin->scene.views[0].camera.resized(320, 240);
+  RenderOptions o;
+  o.spp = 16;
+  const int n = static_cast<int>(l.twin->scene.lights.size());
+  RenderStats total;
+  for (auto _ : state) {
+    total = {};
+    if (state.range(0) == 1) {
+      benchmark::DoNotOptimize(l.tracer->renderPerLight(cam, o, &total).data());
+    } else {
+      for (int i = 0; i < n; ++i) {
+        o.lights = LightSelection::one(i);
+        RenderStats st;
+        benchmark::DoNotOptimize(l.tracer->render(cam, o, &st).data);
+        total.seconds += st.seconds;
+        total.rays += st.rays;
+      }
+    }
+  }
+  state.counters["lights"] = n;
+  state.counters["Mrays"] = total.rays * 1e-6;
+  state.counters["seconds"] = total.seconds;
+}
+BENCHMARK(BM_RenderPerLight)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 void BM_IncidentLightGrid(benchmark::State& state) {
   Loaded& l = loaded();
   if (!l.twin) return state.SkipWithError("blender-room case absent");
@@ -131,7 +163,8 @@ BENCHMARK(BM_IncidentLightGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Shading error of representations of the incident light, per roughness: the 8 x 16 grid (as
 // the paper), SH with 3 and 5 bands fitted to the same grid, against a reference made by BSDF
-// importance sampling of path-traced incident radiance (16384 samples per point; the grid gets 64 path samples per bin).
+// importance sampling of path-traced incident radiance (16384 samples per point; the grid gets 64
+// path samples per bin).
 void BM_IncidentLightRepresentation(benchmark::State& state) {
   Loaded& l = loaded();
   if (!l.twin) return state.SkipWithError("blender-room case absent");
@@ -162,7 +195,8 @@ void BM_IncidentLightRepresentation(benchmark::State& state) {
         for (int s = 0; s < n; ++s) {
           BsdfSample bs;
           if (!bsdf.sample(wo, rng.uniform(), rng.uniform(), rng.uniform(), &bs)) continue;
-          const Vec3f dir = bs.wi.x() * g.frameT[k] + bs.wi.y() * g.frameB[k] + bs.wi.z() * g.frameN[k];
+          const Vec3f dir =
+              bs.wi.x() * g.frameT[k] + bs.wi.y() * g.frameB[k] + bs.wi.z() * g.frameN[k];
           const Vec3f L = l.tracer->radiance(org, dir, o.render, rng);
           ref += L.cwiseProduct(bs.f) * (bs.wi.z() / bs.pdf);
         }
@@ -191,8 +225,12 @@ void BM_IncidentLightRepresentation(benchmark::State& state) {
   state.counters["rel_err_sh3"] = errSh3 / refSum;
   state.counters["rel_err_sh5"] = errSh5 / refSum;
 }
-BENCHMARK(BM_IncidentLightRepresentation)->Arg(100)->Arg(50)->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(1);
-
+BENCHMARK(BM_IncidentLightRepresentation)
+    ->Arg(100)
+    ->Arg(50)
+    ->Arg(25)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace ps

@@ -25,7 +25,8 @@ Vec3f IncidentLightGrid::binDirection(int i, int j) const {
   return localDir(cosT, phi);
 }
 
-Vec3f IncidentLightGrid::shade(int gx, int gy, const MicrofacetBsdf& bsdf, const Vec3f& wo, int sub) const {
+Vec3f IncidentLightGrid::shade(int gx, int gy, const MicrofacetBsdf& bsdf, const Vec3f& wo,
+                               int sub) const {
   sub = std::max(1, sub);
   Vec3f sum = Vec3f::Zero();
   const float dOmega = binSolidAngle() / (sub * sub);
@@ -46,9 +47,10 @@ Vec3f IncidentLightGrid::shade(int gx, int gy, const MicrofacetBsdf& bsdf, const
   return sum;
 }
 
-IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gb, const Camera& camera,
-                                       const IncidentLightOptions& o) {
-  PS_Check(o.stride >= 1 && o.thetaBins >= 1 && o.phiBins >= 1 && o.samplesPerBin >= 1, "bad incident-light options");
+IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gb,
+                                       const Camera& camera, const IncidentLightOptions& o) {
+  PS_Check(o.stride >= 1 && o.thetaBins >= 1 && o.phiBins >= 1 && o.samplesPerBin >= 1,
+           "bad incident-light options");
   PS_CheckEQ(gb.partId.cols, camera.width(), "G-buffer and camera sizes differ");
   PS_CheckEQ(gb.partId.rows, camera.height(), "G-buffer and camera sizes differ");
   IncidentLightGrid g;
@@ -68,13 +70,18 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
   parallelFor(0, static_cast<int64_t>(n), [&](int64_t k) {
     const int gx = static_cast<int>(k % g.width), gy = static_cast<int>(k / g.width);
     const int px = g.pixelX(gx, camera.width()), py = g.pixelY(gy, camera.height());
-    if (gb.partId.at<int>(py, px) < 0) return;
-    const cv::Vec3f p = gb.position.at<cv::Vec3f>(py, px), ns = gb.normalShading.at<cv::Vec3f>(py, px);
+    const int part = gb.partId.at<int>(py, px);
+    if (part < 0) return;
+    if (!o.parts.empty() && (part >= static_cast<int>(o.parts.size()) || !o.parts[part])) return;
+    const cv::Vec3f p = gb.position.at<cv::Vec3f>(py, px),
+                    ns = gb.normalShading.at<cv::Vec3f>(py, px);
     const cv::Vec3f ng = gb.normalGeo.at<cv::Vec3f>(py, px), tg = gb.tangent.at<cv::Vec3f>(py, px);
     const Vec3f P(p[0], p[1], p[2]), N(ns[0], ns[1], ns[2]), Ng(ng[0], ng[1], ng[2]);
     Vec3f T(tg[0], tg[1], tg[2]), B;
-    if (T.squaredNorm() < 0.5f) orthonormalBasis(N, T, B);
-    else B = N.cross(T);
+    if (T.squaredNorm() < 0.5f)
+      orthonormalBasis(N, T, B);
+    else
+      B = N.cross(T);
     g.valid[k] = 1;
     g.position[k] = P;
     g.frameT[k] = T;
@@ -101,7 +108,8 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
             ++used;
           }
         }
-        g.radiance[(k * o.thetaBins + i) * o.phiBins + j] = used ? Vec3f(sum / used) : Vec3f::Zero();
+        g.radiance[(k * o.thetaBins + i) * o.phiBins + j] =
+            used ? Vec3f(sum / used) : Vec3f::Zero();
       }
   });
   return g;
@@ -167,7 +175,8 @@ ShRadiance projectToSh(const IncidentLightGrid& g, int gx, int gy, int bands) {
       const Vec3f& L = g.at(gx, gy, i, j);
       for (int a = 0; a < sub; ++a)
         for (int b = 0; b < sub; ++b) {
-          const Vec3f d = localDir(1.0f - (i + (a + 0.5f) / sub) / g.thetaBins, 2 * kPi * (j + (b + 0.5f) / sub) / g.phiBins);
+          const Vec3f d = localDir(1.0f - (i + (a + 0.5f) / sub) / g.thetaBins,
+                                   2 * kPi * (j + (b + 0.5f) / sub) / g.phiBins);
           shBasis(d, bands, Y);
           for (int k = 0; k < bands * bands; ++k) sh.coeffs[k] += L * (Y[k] * dOmega);
         }

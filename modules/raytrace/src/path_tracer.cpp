@@ -44,7 +44,12 @@ struct ActiveLights {
   std::vector<Vec3f> scale;  // per light (zero: off)
   std::vector<uint8_t> on;
   Distribution1D select;  // over the lights, half by power, half uniform
-  float selectPdf(int i) const { return select.pdf(i); }
+  /// Per-light mode (renderPerLight): every light shines at unit scale into its own image and
+  /// gets its own next-event sample at every vertex (selection probability 1, as when it is
+  /// rendered alone); neeOn[i]: light i has power to sample (else BSDF sampling alone finds it).
+  bool perLight = false;
+  std::vector<uint8_t> neeOn;
+  float selectPdf(int i) const { return perLight ? 1.0f : select.pdf(i); }
 };
 
 PathTracer::PathTracer(const Scene& scene, const std::vector<PartMaterial>& materials)
@@ -274,10 +279,19 @@ struct Tracer final : LightRays {
   // tests visibility from `org` (x offset off the surface). False when nothing visible was
   // sampled.
   bool sampleVisibleLight(const Vec3f& x, const Vec3f& org, const Vec3f& ngo, float uSel,
-                          const Vec2f& uPt, LightSample* ls) const {
+                          const Vec2f& uPt, LightSample* ls, int* light) const {
     if (act.select.empty()) return false;
     float selPdf = 0, uRe = 0;
     const int i = act.select.sample(uSel, &selPdf, &uRe);
+    *light = i;
+    return sampleVisible(i, selPdf, x, org, ngo, uRe, uPt, ls);
+  }
+
+  // Samples light i (picked with probability selPdf; u remapped into it) from x, visibility
+  // tested from `org`.
+  bool sampleVisible(int i, float selPdf, const Vec3f& x, const Vec3f& org, const Vec3f& ngo,
+                     float u, const Vec2f& uPt, LightSample* ls) const {
+    const float uRe = std::min(u, 0.99999994f);
     LightSampleContext ctx;
     ctx.p = x;
     ctx.n = ngo;
@@ -305,15 +319,25 @@ struct Tracer final : LightRays {
   // Sample dimensions: 2D 0 is the pixel position; bounce b uses 1D dimensions 4b .. 4b + 2
   // (light pick, BSDF lobe, roulette) and 2D dimensions 1 + 2b, 2 + 2b (light point, BSDF
   // direction), the same for every sample of a pixel (so each is stratified across samples).
+  //
+  // perLight (act.perLight only): one sum per light, where every contribution goes to the
+  // light it came from (emission found by BSDF sampling to the light that was hit, next-event
+  // samples of each light to that light); the return value is then their sum.
   template <class Sampler>
-  Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp) {
+  Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp, Vec3f* perLight = nullptr) {
     Vec3f Lsum = Vec3f::Zero(), beta = Vec3f::Ones();
+    auto add = [&](int light, const Vec3f& c) {
+      Lsum += c;
+      if (perLight) perLight[light] += c;
+    };
     Vec3f prevPos =
         org;  // the last scattering point (MIS pdfs of light strategies are taken there)
     float prevPdf = 0;
     bool terminateAfterHit = false;
     int bounce = 0, diffuse = 0, glossy = 0;
-    const bool nee = opt.nextEventEstimation && !act.select.empty();
+    const bool nee = opt.nextEventEstimation && (act.perLight || !act.select.empty());
+    // whether light i was also sampled by next-event estimation (then hits are MIS-weighted)
+    auto neeFor = [&](int i) { return nee && (!act.perLight || act.neeOn[i]); };
     for (int depth = 0;; ++depth) {
       LightEscape esc;
       const RayHit hit = traceThroughWindows(org, dir, &esc);
@@ -324,10 +348,10 @@ struct Tracer final : LightRays {
           lh.dir = dir;
           lh.escape = esc;
           const Vec3f Le = L.lights[i]->L(lh).cwiseProduct(act.scale[i]);
-          const float w = (depth == 0 || !nee || prevPdf <= 0)
+          const float w = (depth == 0 || !neeFor(i) || prevPdf <= 0)
                               ? 1.0f
                               : powerHeuristic(prevPdf, lightPdf(i, prevPos, lh));
-          Lsum += beta.cwiseProduct(Le) * w;
+          add(i, beta.cwiseProduct(Le) * w);
         }
         break;
       }
@@ -342,9 +366,9 @@ struct Tracer final : LightRays {
         const Vec3f Le = L.lights[em.light]->L(lh).cwiseProduct(act.scale[em.light]);
         if (Le.maxCoeff() > 0) {
           float w = 1.0f;
-          if (depth > 0 && nee && prevPdf > 0)
+          if (depth > 0 && neeFor(em.light) && prevPdf > 0)
             w = powerHeuristic(prevPdf, lightPdf(em.light, prevPos, lh));
-          Lsum += beta.cwiseProduct(Le) * w;
+          add(em.light, beta.cwiseProduct(Le) * w);
         }
       }
       if (terminateAfterHit || hit.geom == 1) break;  // rectangle emitters reflect nothing
@@ -366,15 +390,28 @@ struct Tracer final : LightRays {
                      d2 = 1u + 2u * static_cast<uint32_t>(depth);
 
       if (nee) {
-        LightSample ls;
-        if (sampleVisibleLight(sp.p, orgNext, ngo, smp.get1D(d1), smp.get2D(d2), &ls)) {
+        auto shadeSample = [&](int light, const LightSample& ls) {
           const Vec3f wiL = toLocal(ls.wi);
           const Vec3f f = bsdf.eval(woL, wiL);
           if (f.maxCoeff() > 0) {
             const float bp = bsdf.pdf(woL, wiL);
             const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bp);
-            Lsum += beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf);
+            add(light, beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf));
           }
+        };
+        LightSample ls;
+        if (act.perLight) {
+          // every light its own sample, from the same numbers as when it is rendered alone
+          const float u = smp.get1D(d1);
+          const Vec2f uPt = smp.get2D(d2);
+          for (size_t i = 0; i < act.neeOn.size(); ++i)
+            if (act.neeOn[i] &&
+                sampleVisible(static_cast<int>(i), 1.0f, sp.p, orgNext, ngo, u, uPt, &ls))
+              shadeSample(static_cast<int>(i), ls);
+        } else {
+          int light = -1;
+          if (sampleVisibleLight(sp.p, orgNext, ngo, smp.get1D(d1), smp.get2D(d2), &ls, &light))
+            shadeSample(light, ls);
         }
       }
 
@@ -511,43 +548,59 @@ Vec3f PathTracer::radiance(const Vec3f& org, const Vec3f& dir, const RenderOptio
   return L.allFinite() ? L : Vec3f::Zero();
 }
 
-cv::Mat PathTracer::render(const Camera& camera, const RenderOptions& options,
-                           RenderStats* stats) const {
+namespace {
+
+// The pixel loop of render() and renderPerLight(): one image, or (act.perLight) one per light.
+std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights& lights,
+                                  const RayAccel& accel, const Camera& camera,
+                                  const RenderOptions& options, const ActiveLights& act,
+                                  RenderStats* stats) {
   std::string err;
   PS_Check(options.IsValid(&err), err);
   PS_Check(camera.width() > 0 && camera.height() > 0, "camera without size");
   Timer timer;
-  const ActiveLights act = makeActive(scene_, *lights_, options.lights);
   const int W = camera.width(), H = camera.height();
-  cv::Mat img(H, W, CV_32FC3, cv::Scalar::all(0));
+  const int nImages = act.perLight ? static_cast<int>(act.scale.size()) : 1;
+  std::vector<cv::Mat> images(nImages);
+  for (cv::Mat& m : images) m = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
   const FilterSampler filter(options.filter, options.filterWidth);
   const Vec3f eye = camera.position().cast<float>();
+  const float invSpp = 1.0f / static_cast<float>(options.spp);
   std::atomic<uint64_t> totalRays{0}, dropped{0};
   parallelForRanges(0, H, 1, [&](int64_t y0, int64_t y1) {
-    Tracer tr{*this, *lights_, act, options, *accel_};
+    Tracer tr{pt, lights, act, options, accel};
     uint64_t bad = 0;
-    for (int64_t y = y0; y < y1; ++y) {
-      cv::Vec3f* row = img.ptr<cv::Vec3f>(static_cast<int>(y));
+    std::vector<Vec3f> sample(nImages), sum(nImages);
+    for (int64_t y = y0; y < y1; ++y)
       for (int x = 0; x < W; ++x) {
         SobolSampler smp(options.seed, static_cast<uint64_t>(y) * W + x);
-        Vec3f sum = Vec3f::Zero();
+        std::fill(sum.begin(), sum.end(), Vec3f::Zero());
         for (int s = 0; s < options.spp; ++s) {
           smp.startSample(static_cast<uint32_t>(s));
           const Vec2f up = smp.get2D(0);
           const float ox = filter.sample(up.x()), oy = filter.sample(up.y());
           const Vec3f d = camera.rayDirection(x + ox, y + oy).cast<float>();
-          Vec3f c = tr.path(eye, d, smp);
-          if (!c.allFinite()) {
-            ++bad;
-            continue;
+          if (act.perLight) {
+            std::fill(sample.begin(), sample.end(), Vec3f::Zero());
+            tr.path(eye, d, smp, sample.data());
+          } else {
+            sample[0] = tr.path(eye, d, smp);
           }
-          if (options.clampSample > 0) c = c.cwiseMin(options.clampSample);
-          sum += c;
+          for (int k = 0; k < nImages; ++k) {
+            Vec3f c = sample[k];
+            if (!c.allFinite()) {
+              ++bad;
+              continue;
+            }
+            if (options.clampSample > 0) c = c.cwiseMin(options.clampSample);
+            sum[k] += c;
+          }
         }
-        sum /= static_cast<float>(options.spp);
-        row[x] = cv::Vec3f(sum.x(), sum.y(), sum.z());
+        for (int k = 0; k < nImages; ++k) {
+          const Vec3f m = sum[k] * invSpp;
+          images[k].ptr<cv::Vec3f>(static_cast<int>(y))[x] = cv::Vec3f(m.x(), m.y(), m.z());
+        }
       }
-    }
     totalRays += tr.rays;
     dropped += bad;
   });
@@ -557,25 +610,33 @@ cv::Mat PathTracer::render(const Camera& camera, const RenderOptions& options,
     stats->rays = totalRays.load();
     stats->samples = static_cast<uint64_t>(W) * H * options.spp;
   }
-  return img;
+  return images;
+}
+
+}  // namespace
+
+cv::Mat PathTracer::render(const Camera& camera, const RenderOptions& options,
+                           RenderStats* stats) const {
+  const ActiveLights act = makeActive(scene_, *lights_, options.lights);
+  return renderImages(*this, *lights_, *accel_, camera, options, act, stats)[0];
 }
 
 std::vector<cv::Mat> PathTracer::renderPerLight(const Camera& camera, const RenderOptions& options,
                                                 RenderStats* stats) const {
-  std::vector<cv::Mat> out;
-  RenderStats total;
-  RenderOptions o = options;
-  const int n = static_cast<int>(scene_.lights.size());
-  for (int i = 0; i < n; ++i) {
-    o.lights = LightSelection::one(i);
-    RenderStats s;
-    out.push_back(render(camera, o, &s));
-    total.seconds += s.seconds;
-    total.rays += s.rays;
-    total.samples += s.samples;
-  }
-  if (stats) *stats = total;
-  return out;
+  // every light at unit scale, each with its own next-event sample (makeActive's One, for all)
+  const std::vector<const Light*> sceneLights = scene_.lights.all();
+  const size_t n = sceneLights.size();
+  PS_Check(n == lights_->lights.size(), "path tracer: the scene has "
+                                            << n << " lights, the tracer was built with "
+                                            << lights_->lights.size());
+  if (n == 0) return {};
+  ActiveLights act;
+  act.perLight = true;
+  act.scale.assign(n, Vec3f::Ones());
+  act.on.assign(n, 1);
+  act.neeOn.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) act.neeOn[i] = lights_->lights[i]->power(Vec3f::Ones()) > 0;
+  return renderImages(*this, *lights_, *accel_, camera, options, act, stats);
 }
 
 }  // namespace ps

@@ -22,21 +22,28 @@
 namespace ps {
 
 struct IncidentLightOptions {
-  int stride = 8;          ///< grid point every `stride` pixels (at pixel centers stride/2 + k stride... see below)
+  int stride =
+      8;  ///< grid point every `stride` pixels (at pixel centers stride/2 + k stride... see below)
   int thetaBins = 8;
   int phiBins = 16;
-  int samplesPerBin = 4;   ///< stratified path samples per bin (each one path-traced radiance estimate)
-  RenderOptions render;    ///< lights, bounce limits, seed (spp and filter are not used)
+  int samplesPerBin =
+      4;  ///< stratified path samples per bin (each one path-traced radiance estimate)
+  RenderOptions render;  ///< lights, bounce limits, seed (spp and filter are not used)
+  /// Which parts need grid points, by part id (empty: all). A point whose pixel sees another
+  /// part is not traced and stays invalid; the others are the same as without the list (each
+  /// point draws from its own random stream).
+  std::vector<uint8_t> parts;
 };
 
 struct IncidentLightGrid {
-  int width = 0, height = 0;  ///< grid size: ceil(image width / stride) x ceil(image height / stride)
+  int width = 0,
+      height = 0;  ///< grid size: ceil(image width / stride) x ceil(image height / stride)
   int stride = 1;
   int thetaBins = 8, phiBins = 16;
   /// Grid point (gx, gy) sits at pixel (gx * stride + stride / 2, gy * stride + stride / 2)
   /// (clamped into the image).
-  std::vector<Vec3f> radiance;   ///< [((gy * width + gx) * thetaBins + i) * phiBins + j]
-  std::vector<uint8_t> valid;    ///< per grid point: 1 where the pixel sees a surface
+  std::vector<Vec3f> radiance;  ///< [((gy * width + gx) * thetaBins + i) * phiBins + j]
+  std::vector<uint8_t> valid;   ///< per grid point: 1 where the pixel sees a surface
   std::vector<Vec3f> position, frameT, frameB, frameN;  ///< per grid point, world space
 
   int pixelX(int gx, int imageWidth) const;
@@ -54,7 +61,8 @@ struct IncidentLightGrid {
 };
 
 /// Traces the grid for `camera` (the size of `gbuffer`, which must come from the same camera).
-IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gbuffer, const Camera& camera,
+IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gbuffer,
+                                       const Camera& camera,
                                        const IncidentLightOptions& options = {});
 
 /// A real spherical-harmonics fit of incident radiance (order `bands` - 1, bands^2 coefficients

@@ -106,7 +106,13 @@ class PathTracer {
   cv::Mat render(const Camera& camera, const RenderOptions& options,
                  RenderStats* stats = nullptr) const;
   /// One image per light of scene.lights.all() at unit scale (area emitters, registered lights,
-  /// the environment last): the images the lighting least squares combines.
+  /// the environment last): the images the lighting least squares combines. One trace for all
+  /// lights: each camera path is traced once; at every vertex each light gets its own
+  /// next-event sample (selection probability 1, from the same numbers a render of that light
+  /// alone draws), and emission found by BSDF sampling goes to the light that was hit, with the
+  /// MIS weight of that light. Image i is therefore the same, bit for bit, as
+  /// render() with LightSelection::one(i) and the same seed (options.lights is not used), at
+  /// the cost of one render plus one shadow ray per extra light per vertex.
   std::vector<cv::Mat> renderPerLight(const Camera& camera, const RenderOptions& options,
                                       RenderStats* stats = nullptr) const;
   /// Radiance arriving at `org` from direction -dir (i.e. seen along dir), one path sample.
