@@ -1,7 +1,8 @@
-// Stages `lights0` and `lights1`: the radiance of every emitter whose radiance is not given,
-// by non-negative least squares over one-light-at-a-time renders (lighting module); round 0
-// under the neutral materials, round 1 under the fitted ones over every view (per-view exposure
-// with several views). The result is written into the scene the later path tracers see.
+// Stages `lights0` and `lights1`: the scale of every light whose scale is fitted
+// (Light::fitsScale), by non-negative least squares over one-light-at-a-time renders (lighting
+// module); round 0 under the neutral materials, round 1 under the fitted ones over every view
+// (per-view exposure with several views). The result is written into the scene the later path
+// tracers see.
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -34,15 +35,15 @@ class LightsStage : public Stage {
   bool compute(Context& ctx, const Reads& in, int) override {
     const Scene& scene = in.litScene();
     const std::vector<int>& freeLights = in.freeLights();
-    const bool hasEnv = scene.lights.environment.has_value();
     intensity_.clear();
     exposure_.assign(ctx.views.size(), 1.0);
-    if (freeLights.empty() && !hasEnv) return false;  // every emitter has a given radiance
+    if (freeLights.empty()) return false;  // every light has a given scale
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
-    // the fixed emitters shine at their radiance; the free ones are rendered one at a time
+    // the given lights shine at their scale; the free ones are rendered one at a time
     const PathTracer tracer(scene, mats);
-    std::vector<uint8_t> isFree(scene.lights.area.size(), 0);
+    const std::vector<const Light*> lights = scene.lights.all();
+    std::vector<uint8_t> isFree(lights.size(), 0);
     for (int k : freeLights) isFree[k] = 1;
     std::vector<lighting::ViewLightData> data;
     for (int v = 0; v < in.viewCount(); ++v) {
@@ -56,14 +57,13 @@ class LightsStage : public Stage {
       d.photo = photo.clone();
       d.mask = ctx.views[v].lightMask.clone();
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
-      for (size_t k = 0; k < scene.lights.area.size(); ++k) {
-        const auto& r = scene.lights.area[k].radiance;
-        if (isFree[k])
+      for (size_t k = 0; k < lights.size(); ++k) {
+        if (isFree[k]) {
           d.perLight.push_back(perLight[k]);
-        else if (r)
+        } else if (const std::optional<Vec3f> r = lights[k]->scale()) {
           fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
+        }
       }
-      if (hasEnv) d.perLight.push_back(perLight.back());
       if (cv::countNonZero(fixed.reshape(1)) > 0) {
         // photo - fixed emitters, with saturated pixels left out before the subtraction
         cv::Mat sat;
@@ -95,7 +95,7 @@ class LightsStage : public Stage {
       intensity_.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
     return true;
   }
-  // free area lights in order, then the environment
+  // the free lights in scene.lights.all() order
   void finish(Context& ctx, const Reads&) override {
     ctx.applyLights(intensity_);
     ctx.exposure = exposure_;

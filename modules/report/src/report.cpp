@@ -22,6 +22,7 @@
 #include "photoscene/io/scene_json.hpp"
 #include "photoscene/scene/gltf_export.hpp"
 #include "photoscene/scene/material.hpp"
+#include "photoscene/scene/scene.hpp"
 
 namespace ps {
 
@@ -413,36 +414,29 @@ ReportSummary writeReport(const fs::path& outDir, const ReportOptions& options) 
   json emitters = json::array();
   std::map<std::string, std::string> partRole;
   try {
-    if (fs::exists(outDir / "lights.json")) {
-      const io::LightsFileDesc ld = io::readLightsJson(outDir / "lights.json");
-      for (const auto& e : ld.emitters) {
-        if (e.part) {
-          partRole[*e.part] = "emitter";
-          continue;
-        }
-        const Vec3d r = e.radiance.value_or(Vec3d::Ones());
-        emitters.push_back({{"center", {e.center.x(), e.center.y(), e.center.z()}},
-                            {"edge_u", {e.edgeU.x(), e.edgeU.y(), e.edgeU.z()}},
-                            {"edge_v", {e.edgeV.x(), e.edgeV.y(), e.edgeV.z()}},
-                            {"radiance", {r.x(), r.y(), r.z()}}});
-      }
-      if (ld.environment)
-        for (const auto& w : ld.environment->windowParts) partRole[w] = "window";
-    } else {
-      for (const auto& e : desc.lights.area) {
-        if (e.part) {
-          partRole[*e.part] = "emitter";
-          continue;
-        }
-        const Vec3d r = e.radiance.value_or(Vec3d::Ones());
-        emitters.push_back({{"center", {e.center.x(), e.center.y(), e.center.z()}},
-                            {"edge_u", {e.edgeU.x(), e.edgeU.y(), e.edgeU.z()}},
-                            {"edge_v", {e.edgeV.x(), e.edgeV.y(), e.edgeV.z()}},
-                            {"radiance", {r.x(), r.y(), r.z()}}});
-      }
+    std::vector<Part> partList;
+    for (size_t i = 0; i < parts.size(); ++i) partList.push_back({parts[i], static_cast<int>(i)});
+    const Vec3f up = desc.up.cast<float>();
+    const LightSet lights =
+        fs::exists(outDir / "lights.json")
+            ? makeLights(io::readLightsJson(outDir / "lights.json"), Mesh(), partList, up,
+                         (outDir / "lights.json").string())
+            : makeLights(desc.lights, Mesh(), partList, up, sceneFile.string(), false);
+    LightJsonContext jc;
+    jc.parts = &partList;
+    jc.baseDir = outDir;
+    for (const Light* l : lights.all()) {
+      for (int p : l->emittingParts()) partRole[parts[p]] = "emitter";
+      for (int p : l->openingParts()) partRole[parts[p]] = "window";
+      // lights with a rectangle in their entry are drawn by the viewer
+      const json e = l->toJson(jc);
+      if (!e.contains("center") || !e.contains("edge_u") || !e.contains("edge_v")) continue;
+      const Vec3d r = l->scale().value_or(Vec3f::Ones()).cast<double>();
+      emitters.push_back({{"center", e["center"]},
+                          {"edge_u", e["edge_u"]},
+                          {"edge_v", e["edge_v"]},
+                          {"radiance", {r.x(), r.y(), r.z()}}});
     }
-    if (desc.lights.environment)
-      for (const auto& w : desc.lights.environment->windowParts) partRole[w] = "window";
   } catch (const std::exception& e) {
     spdlog::warn("report: lights not readable: {}", e.what());
   }
