@@ -56,6 +56,7 @@
 
 #include "photoscene/core/math.hpp"
 #include "photoscene/io/json.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -64,7 +65,7 @@ struct Part;
 
 /// Linear-RGB luminance (Rec. 709 weights), the measure light selection uses for power.
 inline float luminanceOf(const Vec3f& c) {
-  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+  return luminance(c);
 }
 
 /// Where a ray that left the scene went out: the first triangle of an opening part (a window)
