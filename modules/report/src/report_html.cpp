@@ -342,8 +342,11 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
         << ", " << c.votes << " vote" << (c.votes == 1 ? "" : "s") << "</span></figcaption>"
         << "</figure>";
     }
+    // the example forces the best candidate that was not chosen
+    const ReportCandidate& example = *std::find_if(
+        p.candidates.begin(), p.candidates.end() - 1, [](const auto& c) { return !c.chosen; });
     h << "</td><td><code>\"parts\": { \"" << html(p.name) << "\": { \"graph\": \""
-      << html(p.candidates.front().graph) << "\" } }</code></td></tr>\n";
+      << html(example.graph) << "\" } }</code></td></tr>\n";
   }
   h << "</tbody></table></section>\n";
 }
