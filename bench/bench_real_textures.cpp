@@ -65,6 +65,7 @@
 #include "photoscene/pipeline/pipeline.hpp"
 #include "photoscene/raytrace.hpp"
 #include "photoscene/scene.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace fs = std::filesystem;
 using namespace ps;
@@ -300,7 +301,7 @@ double percentileLuminance(const std::vector<cv::Mat>& images, double q) {
     for (int y = 0; y < im.rows; ++y)
       for (int x = 0; x < im.cols; ++x) {
         const cv::Vec3f p = im.at<cv::Vec3f>(y, x);
-        v.push_back(0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]);
+        v.push_back(ps::luminance(p));
       }
   if (v.empty()) return 1;
   const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));

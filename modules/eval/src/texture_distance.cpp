@@ -8,6 +8,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps::eval {
 
@@ -29,7 +30,7 @@ cv::Mat luminance(const cv::Mat& image) {
     const cv::Vec3f* p = image.ptr<cv::Vec3f>(r);
     float* q = y.ptr<float>(r);
     for (int c = 0; c < image.cols; ++c) {
-      const float v = 0.2126f * p[c][0] + 0.7152f * p[c][1] + 0.0722f * p[c][2];
+      const float v = ps::luminance(p[c]);
       q[c] = std::isfinite(v) && v > 0 ? v : 0.0f;
     }
   }

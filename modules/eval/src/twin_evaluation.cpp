@@ -1,5 +1,6 @@
 #include "photoscene/eval/twin_evaluation.hpp"
 
+#include <utility>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -96,34 +97,6 @@ void requireRadiance(const Scene& scene, const std::string& file) {
   if (lights.empty()) throw InputError(file, "emitters", "at least one emitter or an environment");
 }
 
-/// Index into `list` of the emitter that corresponds to `e`: same part, same name, or the
-/// nearest rectangle center within `maxDistance`; -1 when none.
-int matchEmitter(const io::AreaLightDesc& e, const std::vector<io::AreaLightDesc>& list,
-                 double maxDistance = 0.5) {
-  for (size_t i = 0; i < list.size(); ++i)
-    if (e.part && list[i].part && *e.part == *list[i].part) return static_cast<int>(i);
-  for (size_t i = 0; i < list.size(); ++i)
-    if (!e.name.empty() && e.name == list[i].name) return static_cast<int>(i);
-  if (e.part) return -1;
-  int best = -1;
-  double bestD = maxDistance;
-  for (size_t i = 0; i < list.size(); ++i) {
-    if (list[i].part) continue;
-    const double d = (list[i].center - e.center).norm();
-    if (d <= bestD) bestD = d, best = static_cast<int>(i);
-  }
-  return best;
-}
-
-/// A twin emitter as a description, for matching against lights files.
-io::AreaLightDesc describe(const AreaLight& a, const Scene& scene) {
-  io::AreaLightDesc d;
-  d.name = a.name;
-  if (a.kind == AreaLight::Kind::Part && a.partId >= 0) d.part = scene.parts[a.partId].name;
-  d.center = a.center.cast<double>();
-  return d;
-}
-
 Vec3d ratio(const Vec3d& relit, const Vec3d& original) {
   Vec3d r;
   for (int c = 0; c < 3; ++c) r[c] = original[c] > 1e-9 ? relit[c] / original[c] : 1.0;
@@ -139,17 +112,31 @@ LightSet relitLights(const Scene& twin, const GroundTruthRender& gt,
   if (gt.photoLights) original = tryLights(*gt.photoLights);
   if (!original) return makeLights(relit, twin.mesh, twin.parts, twin.up, gt.lights->string());
 
-  // Per relit emitter: its ratio to the same emitter under the photo's lights.
+  const LightSet relitSet = makeLights(relit, twin.mesh, twin.parts, twin.up, gt.lights->string());
+  LightSet originalSet;
+  try {
+    originalSet = makeLights(*original, twin.mesh, twin.parts, twin.up, gt.photoLights->string());
+  } catch (const InputError& e) {  // e.g. an emitter part the twin does not have
+    if (notes)
+      notes->push_back(gt.name + ": the photo's lights do not fit the twin (" + e.what() +
+                       "); relit with the relit lights themselves");
+    return relitSet;
+  }
+  // Per relit light: its ratio to the same light under the photo's lights (ps::matchLight).
+  const std::vector<const Light*> relitAll = relitSet.all(),
+                                  originalAll = std::as_const(originalSet).all();
   std::vector<Vec3d> ratios;
   Vec3d mean = Vec3d::Zero();
   int counted = 0;
-  for (const io::AreaLightDesc& e : relit.emitters) {
-    const int j = matchEmitter(e, original->emitters);
+  for (const Light* l : relitAll) {
+    const int j = matchLight(*l, originalAll);
     Vec3d r = Vec3d::Ones();
-    if (j >= 0 && e.radiance && original->emitters[j].radiance) {
-      r = ratio(*e.radiance, *original->emitters[j].radiance);
-      mean += r;
-      ++counted;
+    const std::optional<Vec3f> s = l->scale();
+    const std::optional<Vec3f> s0 = j >= 0 ? originalAll[j]->scale() : std::nullopt;
+    if (s && s0) {
+      r = ratio(s->cast<double>(), s0->cast<double>());
+      // the mean, for twin lights that match none, is over the emitters (not the daylight)
+      if (!l->isInfinite()) mean += r, ++counted;
     }
     ratios.push_back(r);
   }
@@ -160,25 +147,17 @@ LightSet relitLights(const Scene& twin, const GroundTruthRender& gt,
 
   LightSet set = twin.lights;
   int unmatched = 0;
-  for (AreaLight& a : set.area) {
-    const int j = matchEmitter(describe(a, twin), relit.emitters);
+  for (Light* l : set.all()) {
+    const int j = matchLight(*l, relitAll);
+    // an infinite light the relit file does not have keeps its scale
+    if (j < 0 && l->isInfinite()) continue;
     const Vec3d r = j >= 0 ? ratios[j] : mean;
     if (j < 0) ++unmatched;
-    if (a.radiance) *a.radiance = a.radiance->cwiseProduct(r.cast<float>());
-  }
-  // lights of registered types are not matched (their entries carry type-specific keys): they
-  // follow the mean ratio
-  for (LightHandle& h : set.registered) {
-    ++unmatched;
-    if (const std::optional<Vec3f> sc = h->scale())
-      h->setScale(sc->cwiseProduct(mean.cast<float>()));
+    if (const std::optional<Vec3f> s = l->scale()) l->setScale(s->cwiseProduct(r.cast<float>()));
   }
   if (unmatched > 0 && notes)
     notes->push_back(gt.name + ": " + std::to_string(unmatched) +
                      " twin emitter(s) matched no relit emitter; scaled by the mean ratio");
-  if (set.environment && relit.environment && original->environment)
-    set.environment->radiance = set.environment->radiance.cwiseProduct(
-        ratio(relit.environment->radiance, original->environment->radiance).cast<float>());
   return set;
 }
 

@@ -3,6 +3,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 #include "photoscene/core/parallel.hpp"
+#include "photoscene/core/color.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -12,7 +13,8 @@
 namespace ps::features_detail {
 namespace {
 
-constexpr double kLumR = 0.2126, kLumG = 0.7152, kLumB = 0.0722;
+constexpr double kLumR = kLuminanceWeights[0], kLumG = kLuminanceWeights[1],
+                 kLumB = kLuminanceWeights[2];
 constexpr int kBorder = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
 // Responses near the mask's edge are amplified by at most 1 / sqrt(this).
 constexpr double kMinEnergyCoverage = 0.1;

@@ -5,6 +5,7 @@
 #include "ps_statistics.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "photoscene/core/color.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,7 +72,7 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
   m.targetValues = st.values;
   m.descriptor = toDescriptor(st, m.pyramid, o);
   if (options.normalizeByTarget) {
-    const double lum = 0.2126 * st.values[0] + 0.7152 * st.values[1] + 0.0722 * st.values[2];
+    const double lum = luminance(st.values[0], st.values[1], st.values[2]);
     m.nu = std::max(lum, 1e-3);
   }
   const int S = o.numScales, K = o.numOrientations, SK = S * K;

@@ -3,6 +3,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 #include "gradient_check.hpp"
+#include "photoscene/core/color.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -13,7 +14,7 @@ namespace ps {
 
 namespace {
 
-constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
+constexpr const double* kLum = kLuminanceWeights;
 constexpr int kBorder = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
 
 int kernelRadius(double sigma) {

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core/error.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -89,7 +90,9 @@ std::vector<float> computeStructureKey(const cv::Mat& image, const cv::Mat& mask
   std::vector<cv::Mat> ch(3);
   cv::split(img, ch);
   for (int c = 0; c < 3; ++c) ch[c].convertTo(ch[c], CV_32F, norm[c], floor);  // x / mean + floor
-  cv::Mat l = 0.2126f * ch[0] + 0.7152f * ch[1] + 0.0722f * ch[2], a, b;       // luminance + floor
+  cv::Mat l = kLuminanceWeightsF[0] * ch[0] + kLuminanceWeightsF[1] * ch[1] +
+              kLuminanceWeightsF[2] * ch[2],
+          a, b;  // luminance + floor
   cv::log(l, l);
   for (int c = 0; c < 3; ++c) cv::log(ch[c], ch[c]);
   a = ch[0] - ch[1];

@@ -2,6 +2,7 @@
 // normal, edge detect, histogram scan, invert, clamp, grayscale. Every filter wraps around the
 // edges (periodic), and every spatial quantity is in texture units.
 #include "node.hpp"
+#include "photoscene/core/color.hpp"
 
 #include <algorithm>
 
@@ -967,7 +968,7 @@ struct Grayscale {
     return {"grayscale", "Rec. 709 luminance of a linear RGB image.", {{"in", 3}}, {{"out", 1}},
             {}};
   }
-  static constexpr double kW[3] = {0.2126, 0.7152, 0.0722};
+  static constexpr const double* kW = kLuminanceWeights;
   template <class T>
   static void forward(NodeCtx<T>& c) {
     auto& o = c.out[0]->d;

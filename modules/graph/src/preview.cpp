@@ -1,7 +1,9 @@
-// Lit previews of material maps (Lambert + GGX, Smith height-correlated, Schlick Fresnel).
+// Lit previews of material maps (core/shading.hpp's Lambert + GGX, separable Smith, Schlick
+// Fresnel: the BRDF the path tracer and the render layer evaluate).
 #include "photoscene/graph/preview.hpp"
 
 #include "photoscene/core.hpp"
+#include "photoscene/core/shading.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -125,16 +127,16 @@ cv::Mat renderMaterialPreview(const MaterialMaps& maps, const PreviewOptions& o)
           const float nl = std::max(0.f, nrm.dot(Ldir)), nv = std::max(1e-4f, nrm.dot(V));
           const cv::Vec3f hv = normalized(Ldir + V);
           const float nh = std::max(0.f, nrm.dot(hv)), vh = std::max(0.f, V.dot(hv));
+          // the path tracer's and the render layer's BRDF (core/shading.hpp): Lambert + GGX D
+          // x separable Smith G1 G1 / (4 nl nv) = D G1(nl) K(nv) / nl, Schlick F
           const float a = rough * rough, a2 = a * a;
-          const float dd = nh * nh * (a2 - 1) + 1;
-          const float D = a2 / (kPi * dd * dd + 1e-12f);
-          const float Vis = 0.5f / (nl * std::sqrt(nv * nv * (1 - a2) + a2) +
-                                    nv * std::sqrt(nl * nl * (1 - a2) + a2) + 1e-6f);
+          const float D = shading::ggxD(nh, a2);
+          const float GK = shading::smithG1(nl, a2) * shading::specularK(nv, a).value;
           const cv::Vec3f F0 = cv::Vec3f::all(0.04f) * (1 - metal) + albedo * metal;
-          const float fw = std::pow(1 - vh, 5.f);
+          const float fw = shading::schlickWeight(vh);
           const cv::Vec3f F = F0 + (cv::Vec3f::all(1) - F0) * fw;
-          const cv::Vec3f diffuse = albedo * (1 - metal) / kPi;
-          cv::Vec3f c = (diffuse + F * (D * Vis)) * (Li * nl);
+          const cv::Vec3f diffuse = albedo * (1 - metal) * shading::kLambert;
+          cv::Vec3f c = diffuse * (Li * nl) + F * (D * GK * Li);
           const float sky = 0.5f + 0.5f * nrm[1];
           c += (albedo * (1 - metal) + F0 * 0.5f) * (ambient * (0.6f + 0.4f * sky));
           acc += c;

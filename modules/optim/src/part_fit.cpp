@@ -8,6 +8,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/features/texture_placement.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -126,7 +127,7 @@ double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<c
     for (int c = 0; c < 3; ++c) vp[c] += (a[c] - mp[c]) * (a[c] - mp[c]), vr[c] += (b[c] - mr[c]) * (b[c] - mr[c]);
   }
   for (int c = 0; c < 3; ++c) vp[c] /= n, vr[c] /= n;
-  const double nu = std::max(1e-3, 0.2126 * mp[0] + 0.7152 * mp[1] + 0.0722 * mp[2]);
+  const double nu = std::max(1e-3, luminance(mp[0], mp[1], mp[2]));
   double loss = 0;
   double sMean[3], sVar[3];
   for (int c = 0; c < 3; ++c) {
@@ -519,7 +520,7 @@ class PartFitter {
     for (int y = 0; y < lum.rows; ++y)
       for (int x = 0; x < lum.cols; ++x) {
         const cv::Vec3f c = m.albedo.at<cv::Vec3f>(y, x);
-        lum.at<float>(y, x) = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        lum.at<float>(y, x) = luminance(c);
       }
     // the lighting, to divide out of the photo: the layer's render of a white diffuse material
     RenderLayerParams p;

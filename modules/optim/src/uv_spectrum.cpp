@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "photoscene/core/error.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 namespace {
@@ -158,7 +159,7 @@ UvSpectrumEstimate estimateUvBySpectrum(const PartGeometry& geo, const cv::Mat& 
   if (M % 2) ++M;
   // splat luminance (over the white material's, where given) into the raster
   cv::Mat sum = cv::Mat::zeros(M, M, CV_32F), count = cv::Mat::zeros(M, M, CV_32F);
-  auto lum = [](const cv::Vec3f& c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; };
+  auto lum = [](const cv::Vec3f& c) { return luminance(c); };
   for (int i = 0; i < n; ++i) {
     const auto& d = geo.data[i];
     if (!(d.footprint > 0) || !std::isfinite(d.footprint) || !d.uv.allFinite()) continue;

@@ -72,8 +72,7 @@ std::unique_ptr<Context> Context::load(const PipelineOptions& options) {
   in.seed = in.scene.desc.options.seed;
   in.budget = PresetBudget::of(in.preset);
   in.fitOptions = PartFitOptions::preset(in.preset);
-  for (size_t k = 0; k < in.scene.lights.area.size(); ++k)
-    if (!in.scene.lights.area[k].radiance) in.freeLights.push_back(static_cast<int>(k));
+  in.freeLights = in.scene.lights.fittedLights();
   for (const View& input : in.scene.views)
     in.views.push_back(workingView(input, options.workWidth));
   // the units: one work record per view and per part
@@ -88,11 +87,10 @@ std::unique_ptr<Context> Context::load(const PipelineOptions& options) {
 }
 
 void Context::applyLights(const std::vector<Vec3d>& intensity) {
-  LightSet& lights = in_.scene.lights;
-  for (size_t i = 0; i < in_.freeLights.size() && i < intensity.size(); ++i)
-    lights.area[in_.freeLights[i]].radiance = intensity[i].cast<float>();
-  if (lights.environment && intensity.size() == in_.freeLights.size() + 1)
-    lights.environment->radiance = intensity.back().cast<float>();
+  const std::vector<Light*> lights = in_.scene.lights.all();
+  if (intensity.size() != in_.freeLights.size()) return;  // nothing solved (every scale given)
+  for (size_t i = 0; i < in_.freeLights.size(); ++i)
+    lights[in_.freeLights[i]]->setScale(intensity[i].cast<float>());
 }
 
 std::string Context::describe() const {
@@ -110,13 +108,9 @@ void Context::finishResult() {
   result.out = in_.options.out;
   result.preset = in_.preset;
   result.totalSeconds = clock.seconds();
-  for (const AreaLight& l : scene.lights.area) {
-    result.lightNames.push_back(l.name);
-    result.lightRadiance.push_back(l.radiance.value_or(Vec3f::Zero()).cast<double>());
-  }
-  if (scene.lights.environment) {
-    result.lightNames.push_back("environment");
-    result.lightRadiance.push_back(scene.lights.environment->radiance.cast<double>());
+  for (const Light* l : scene.lights.all()) {
+    result.lightNames.push_back(l->label());
+    result.lightRadiance.push_back(l->scale().value_or(Vec3f::Zero()).cast<double>());
   }
   result.exposure = exposure;
   result.peakMemoryMiB = peakMemoryMiB();

@@ -116,7 +116,8 @@ struct RunInputs {
   std::unique_ptr<GraphLibrary> library;
   std::string bankName;          ///< the exemplar bank's file name (format, library hash, options)
   std::vector<ViewInput> views;  ///< at the working resolution
-  std::vector<int> freeLights;   ///< area-light indices whose radiance is fitted
+  std::vector<int>
+      freeLights;  ///< indices in scene.lights.all() of the lights whose scale is fitted
 };
 
 /// The state the stages pass along: the inputs (private) and the work state.
@@ -140,8 +141,8 @@ class Context {
   /// Reads scene.json and everything it names, checks them and resolves the options; bad input
   /// throws ps::InputError before anything is written.
   static std::unique_ptr<Context> load(const PipelineOptions& options);
-  /// The lights stages' result: the free area lights' radiances (in `freeLights` order, then the
-  /// environment's) written into the scene the later path tracers see.
+  /// The lights stages' result: the free lights' scales (in `freeLights` order) written into the
+  /// scene the later path tracers see.
   void applyLights(const std::vector<Vec3d>& intensity);
   /// The run in one line (scene, views, parts, lights, preset) for the log.
   std::string describe() const;

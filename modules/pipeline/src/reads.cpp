@@ -60,21 +60,18 @@ const Scene& Reads::litScene() const {
 std::vector<int> Reads::emitterParts() const {
   need("lights.area[].part");
   need("geometry");
-  std::vector<int> parts;
-  for (const AreaLight& l : ctx_.in_.scene.lights.area)
-    if (l.kind == AreaLight::Kind::Part && l.partId >= 0) parts.push_back(l.partId);
-  return parts;
+  return ctx_.in_.scene.lights.emittingParts();
 }
 
 std::vector<int> Reads::windowParts() const {
   need("lights.environment.window_parts");
   need("geometry");
-  const auto& env = ctx_.in_.scene.lights.environment;
-  return env ? env->windowParts : std::vector<int>();
+  return ctx_.in_.scene.lights.openingParts();
 }
 
 const std::vector<int>& Reads::freeLights() const {
   need("lights.area");
+  need("lights.environment");
   return ctx_.in_.freeLights;
 }
 

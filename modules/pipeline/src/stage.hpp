@@ -75,9 +75,9 @@ class Reads {
   const Scene& litScene() const;          ///< the whole scene for the path tracer: + `lights`
   std::vector<int> emitterParts() const;  ///< parts that emit: `lights.area[].part`, `geometry`
   std::vector<int> windowParts() const;   ///< `lights.environment.window_parts`, `geometry`
-  const std::vector<int>& freeLights()
-      const;                             ///< area lights whose radiance is fitted: `lights.area`
-  const Camera& camera(int view) const;  ///< working resolution: `views[].camera`, work_width
+  const std::vector<int>& freeLights() const;  ///< indices in lights.all() whose scale is fitted:
+                                               ///< `lights.area`, `lights.environment`
+  const Camera& camera(int view) const;        ///< working resolution: `views[].camera`, work_width
   const cv::Mat& photo(int view)
       const;  ///< CV_32FC3: `views[].image`, `views[].color_space`, `views[].camera`, work_width
   const cv::Mat& labels(int view) const;  ///< CV_32SC1 or empty: `views[].segments` + the photo's

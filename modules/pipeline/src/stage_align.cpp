@@ -6,6 +6,7 @@
 
 #include "photoscene/align.hpp"
 #include "stages.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps::pipeline {
 
@@ -158,8 +159,7 @@ class PinStage : public Stage {
     double lum = 0, weight = 0;
     for (const PartWork& p : ctx.parts)
       if ((p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) && p.view >= 0) {
-        lum +=
-            (0.2126f * p.median.x() + 0.7152f * p.median.y() + 0.0722f * p.median.z()) * p.pixels;
+        lum += luminance(p.median) * p.pixels;
         weight += p.pixels;
       }
     ctx.albedoPin =

@@ -191,51 +191,27 @@ nlohmann::json copyInputs(const Scene& scene, const fs::path& out) {
   return j;
 }
 
-// The recovered lights: as lights.json (`lf`, with the exposures) and as scene.json's `lights`
-// (returned); an environment image is copied into the folder.
-nlohmann::json recoveredLights(const Scene& scene, const fs::path& out, io::LightsFileDesc& lf) {
+// The recovered lights, every one through its Light::toJson: as lights.json (with the
+// exposures) and as the twin scene.json's `lights` (returned); a file a light names (an
+// environment image) is copied into the folder's env/.
+nlohmann::json writeRecoveredLights(const Context& ctx, const Scene& scene, const fs::path& out) {
+  LightJsonContext jc;
+  jc.parts = &scene.parts;
+  jc.baseDir = out;
+  jc.file = (out / "lights.json").string();
+  jc.up = scene.up;
+  jc.fileRef = [&out](const fs::path& file) {
+    const fs::path copy = fs::path("env") / file.filename();
+    copyFile(file, out / copy);
+    return copy.generic_string();
+  };
+  std::vector<double> exposure = ctx.exposure;
+  if (exposure.empty()) exposure.assign(scene.views.size(), 1.0);
+  const nlohmann::json lf = lightsToJson(scene.lights, jc, exposure);
+  io::writeJsonFile(out / "lights.json", lf);
   nlohmann::json lights = nlohmann::json::object();
-  lights["area"] = nlohmann::json::array();
-  for (const AreaLight& l : scene.lights.area) {
-    io::AreaLightDesc d;
-    d.name = l.name;
-    nlohmann::json e;
-    if (l.kind == AreaLight::Kind::Part) {
-      d.part = scene.parts[l.partId].name;
-      e["part"] = *d.part;
-    } else {
-      d.center = l.center.cast<double>();
-      d.edgeU = l.edgeU.cast<double>();
-      d.edgeV = l.edgeV.cast<double>();
-      e["center"] = vec(l.center);
-      e["edge_u"] = vec(l.edgeU);
-      e["edge_v"] = vec(l.edgeV);
-    }
-    d.radiance = l.radiance.value_or(Vec3f::Zero()).cast<double>();
-    e["radiance"] = vec(l.radiance.value_or(Vec3f::Zero()));
-    lights["area"].push_back(e);
-    lf.emitters.push_back(d);
-  }
-  if (scene.lights.environment) {
-    const EnvironmentLight& env = *scene.lights.environment;
-    const io::EnvironmentDesc& in = *scene.desc.lights.environment;
-    io::EnvironmentDesc d;
-    d.radiance = env.radiance.cast<double>();
-    d.rotationDeg = env.rotationDeg;
-    d.windowParts = in.windowParts;
-    nlohmann::json e;
-    e["radiance"] = vec(env.radiance);
-    e["rotation_deg"] = env.rotationDeg;
-    if (!in.windowParts.empty()) e["window_parts"] = in.windowParts;
-    if (in.image) {
-      const fs::path img = fs::path("env") / in.image->filename();
-      copyFile(*in.image, out / img);
-      d.image = out / img;
-      e["image"] = img.generic_string();
-    }
-    lights["environment"] = e;
-    lf.environment = d;
-  }
+  lights["area"] = lf["emitters"];
+  if (lf.contains("environment")) lights["environment"] = lf["environment"];
   return lights;
 }
 
@@ -243,11 +219,7 @@ nlohmann::json recoveredLights(const Scene& scene, const fs::path& out, io::Ligh
 void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
   const Scene& scene = in.wholeScene();
   nlohmann::json j = copyInputs(scene, out);
-  io::LightsFileDesc lf;
-  j["lights"] = recoveredLights(scene, out, lf);
-  lf.exposure = ctx.exposure;
-  if (lf.exposure.empty()) lf.exposure.assign(scene.views.size(), 1.0);
-  io::writeLightsJson(out / "lights.json", lf);
+  j["lights"] = writeRecoveredLights(ctx, scene, out);
   io::writeJsonFile(out / "scene.json", j);
 }
 

@@ -1,8 +1,8 @@
-// Stages `lights0` and `lights1`: the radiance of every emitter whose radiance is not given,
-// by non-negative least squares over per-light renders (one trace for all lights,
-// PathTracer::renderPerLight; lighting module); round 0
-// under the neutral materials, round 1 under the fitted ones over every view (per-view exposure
-// with several views). The result is written into the scene the later path tracers see.
+// Stages `lights0` and `lights1`: the scale of every light whose scale is fitted
+// (Light::fitsScale), by non-negative least squares over per-light renders (one trace for all
+// lights, PathTracer::renderPerLight; lighting module); round 0 under the neutral materials,
+// round 1 under the fitted ones over every view (per-view exposure with several views). The
+// result is written into the scene the later path tracers see.
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -43,23 +43,22 @@ class LightsStage : public Stage {
   bool compute(Context& ctx, const Reads& in, int) override {
     const Scene& scene = in.litScene();
     const std::vector<int>& freeLights = in.freeLights();
-    const bool hasEnv = scene.lights.environment.has_value();
     intensity_.clear();
-    // without a solve (every emitter given), the exposures stay as observe estimated them
+    // without a solve (every light given), the exposures stay as observe estimated them
     exposure_.resize(ctx.views.size());
     for (size_t v = 0; v < exposure_.size(); ++v)
       exposure_[v] = ctx.viewExposure(static_cast<int>(v));
-    if (freeLights.empty() && !hasEnv) {
-      spdlog::info("{}: skipped: every emitter has a given radiance and there is no environment",
-                   decl.name);
+    if (freeLights.empty()) {
+      spdlog::info("{}: skipped: every light has a given scale", decl.name);
       return false;
     }
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
-    // the fixed emitters shine at their radiance; the free ones are each rendered at unit scale
-    // (all in one trace)
+    // the given lights shine at their scale; the free ones are each rendered at unit scale (all
+    // in one trace)
     const PathTracer tracer(scene, mats);
-    std::vector<uint8_t> isFree(scene.lights.area.size(), 0);
+    const std::vector<const Light*> lights = scene.lights.all();
+    std::vector<uint8_t> isFree(lights.size(), 0);
     for (int k : freeLights) isFree[k] = 1;
     std::vector<lighting::ViewLightData> data;
     for (int v = 0; v < in.viewCount(); ++v) {
@@ -83,14 +82,13 @@ class LightsStage : public Stage {
         for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation);
       }
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
-      for (size_t k = 0; k < scene.lights.area.size(); ++k) {
-        const auto& r = scene.lights.area[k].radiance;
-        if (isFree[k])
+      for (size_t k = 0; k < lights.size(); ++k) {
+        if (isFree[k]) {
           d.perLight.push_back(perLight[k]);
-        else if (r)
+        } else if (const std::optional<Vec3f> r = lights[k]->scale()) {
           fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
+        }
       }
-      if (hasEnv) d.perLight.push_back(perLight.back());
       if (cv::countNonZero(fixed.reshape(1)) > 0) {
         // photo - fixed emitters, with saturated pixels left out before the subtraction
         cv::Mat sat;
@@ -124,7 +122,7 @@ class LightsStage : public Stage {
       intensity_.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
     return true;
   }
-  // free area lights in order, then the environment
+  // the free lights in scene.lights.all() order
   void finish(Context& ctx, const Reads&) override {
     ctx.applyLights(intensity_);
     ctx.exposure = exposure_;

@@ -1,34 +1,30 @@
 #include "photoscene/raytrace/bsdf.hpp"
+#include "photoscene/core/color.hpp"
 
 #include <algorithm>
+
+#include "photoscene/core/color.hpp"
+#include "photoscene/core/shading.hpp"
 
 namespace ps {
 
 namespace {
-inline float luminance(const Vec3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 inline float safeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 }  // namespace
 
+// D, G1 and Schlick's weight are core/shading.hpp's, shared with the render layer and previews.
 float ggxD(const Vec3f& h, float alpha) {
   if (h.z() <= 0) return 0.0f;
-  const float a2 = alpha * alpha;
-  const float c2 = h.z() * h.z();
-  const float d = c2 * (a2 - 1.0f) + 1.0f;
-  return a2 / (kPi * d * d);
+  return shading::ggxD(h.z(), alpha * alpha);
 }
 
 float smithG1(const Vec3f& w, float alpha) {
-  const float c = w.z();
-  if (c <= 0) return 0.0f;
-  const float c2 = c * c;
-  const float tan2 = std::max(0.0f, 1.0f - c2) / c2;
-  return 2.0f / (1.0f + std::sqrt(1.0f + alpha * alpha * tan2));
+  if (w.z() <= 0) return 0.0f;
+  return shading::smithG1(w.z(), alpha * alpha);
 }
 
 Vec3f schlickFresnel(const Vec3f& f0, float cosTheta) {
-  const float m = clampv(1.0f - cosTheta, 0.0f, 1.0f);
-  const float m2 = m * m;
-  const float fc = m2 * m2 * m;
+  const float fc = shading::schlickWeight(cosTheta);
   const float f90 = std::min(1.0f, 50.0f * f0.y());
   return f0 + (Vec3f::Constant(f90) - f0) * fc;
 }
@@ -59,7 +55,7 @@ MicrofacetBsdf::MicrofacetBsdf(const Vec3f& diffuse, const Vec3f& f0, float roug
 }
 
 Vec3f MicrofacetBsdf::evalDiffuse(const Vec3f& wo, const Vec3f& wi) const {
-  if (!burley_) return diffuse_ * kInvPi;
+  if (!burley_) return diffuse_ * shading::kLambert;
   Vec3f h = wo + wi;
   const float hl = h.norm();
   const float cd = hl > 1e-8f ? wi.dot(h / hl) : 0.0f;

@@ -10,14 +10,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core/parallel.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
 namespace {
-
-inline float luminance(const cv::Vec3f& c) {
-  return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
-}
 
 inline float finitePositive(float v) {
   return std::isfinite(v) && v > 0.0f ? v : 0.0f;

@@ -5,6 +5,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/parallel.hpp"
+#include "photoscene/core/shading.hpp"
 #include "photoscene/raytrace/bsdf.hpp"
 
 namespace ps {
@@ -381,54 +382,6 @@ inline void scatterLevel(cv::Mat& g, int C, const Taps& t, float w, const float*
   }
 }
 
-// ---------------------------------------------------------------------------------------------
-// BRDF pieces (same formulas as raytrace/bsdf.cpp, written in cosines, with derivatives)
-
-struct G1Eval {
-  float g, dc, da;  // G1, dG1/dcos, dG1/dalpha
-};
-inline G1Eval smithG1d(float c, float a) {
-  const float a2 = a * a;
-  const float s = std::sqrt(std::max(0.0f, c * c + a2 * (1 - c * c)));
-  const float cs = c + s;
-  G1Eval r;
-  r.g = 2 * c / cs;
-  const float dsdc = s > 0 ? c * (1 - a2) / s : 0.0f;
-  const float dsda = s > 0 ? a * (1 - c * c) / s : 0.0f;
-  r.dc = 2 * (s - c * dsdc) / (cs * cs);
-  r.da = -2 * c * dsda / (cs * cs);
-  return r;
-}
-struct KEval {
-  float k, dc, da;  // G1(c) / (4c) = 1 / (2 (c + s))
-};
-inline KEval kTerm(float c, float a) {
-  const float a2 = a * a;
-  const float s = std::sqrt(std::max(0.0f, c * c + a2 * (1 - c * c)));
-  const float cs = c + s;
-  const float dsdc = s > 0 ? c * (1 - a2) / s : 0.0f;
-  const float dsda = s > 0 ? a * (1 - c * c) / s : 0.0f;
-  KEval r;
-  r.k = 0.5f / cs;
-  r.dc = -0.5f * (1 + dsdc) / (cs * cs);
-  r.da = -0.5f * dsda / (cs * cs);
-  return r;
-}
-struct DEval {
-  float d, dc, da;
-};
-inline DEval ggxDd(float c, float a) {
-  DEval r{0, 0, 0};
-  if (c <= 0) return r;
-  const float a2 = a * a;
-  const float q = c * c * (a2 - 1) + 1;
-  const float q2 = q * q;
-  r.d = a2 / (kPi * q2);
-  r.dc = -4 * a2 * c * (a2 - 1) / (kPi * q2 * q);
-  r.da = 2 * a / (kPi * q2 * q) * (q - 2 * a2 * c * c);
-  return r;
-}
-
 // The per-direction loops are compiled twice on x86-64 with GCC: for AVX2 (8 lanes) and the
 // baseline (SSE2, 4 lanes); the loader picks the first the CPU runs. The results are the same
 // (element-wise IEEE operations in the same order; no FMA contraction in ISO C++ mode).
@@ -489,9 +442,8 @@ void diffuseGradWeights(int n, const float* __restrict cb, const float* __restri
 // w1 = D(cH) G1(cI) (1 - Fc), w2 = D(cH) G1(cI) Fc, zero where cI <= 0 or cH <= 0.
 PS_DIRECTION_LOOP
 void specularWeights(int Q, const float* __restrict sx, const float* __restrict sy, const float* __restrict sz,
-                     float nx, float ny, float nz, float wx, float wy, float wz, float a2, float dScale,
+                     float nx, float ny, float nz, float wx, float wy, float wz, float a2,
                      float* __restrict w1, float* __restrict w2) {
-  const float a2m1 = a2 - 1, oneMa2 = 1 - a2;
   for (int q = 0; q < Q; ++q) {
     const float dx = sx[q], dy = sy[q], dz = sz[q];
     const float cI = nx * dx + ny * dy + nz * dz;
@@ -500,13 +452,10 @@ void specularWeights(int Q, const float* __restrict sx, const float* __restrict 
     const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
     const float cH = (nx * ux + ny * uy + nz * uz) * inv;
     const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-    const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
-    const float mm2 = mm * mm;
-    const float fc = mm2 * mm2 * mm;
+    const float fc = shading::schlickWeight(woh);
     const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-    const float iq = 1.0f / (cHc * cHc * a2m1 + 1);
-    const float D = dScale * iq * iq;
-    const float G = 2 * cIc / (cIc + std::sqrt(cIc * cIc * oneMa2 + a2));
+    const float D = shading::ggxD(cHc, a2);
+    const float G = shading::smithG1(cIc, a2);
     const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
     const float DG = D * G * (ok ? 1.0f : 0.0f);
     w1[q] = DG * (1 - fc);
@@ -522,8 +471,6 @@ void specularWeightsGrad(int Q, const float* __restrict sx, const float* __restr
                          float nx, float ny, float nz, float wx, float wy, float wz, float alpha, float kq,
                          const float* __restrict lFq, const float* __restrict lgq, float* __restrict w1,
                          float* __restrict w2, float* __restrict ca, float* __restrict cc, float* __restrict ce) {
-  const float a2 = alpha * alpha, a2m1 = a2 - 1, oneMa2 = 1 - a2, dScale = a2 * kInvPi;
-  const float dDdc = -4 * dScale * a2m1, dDda = 2 * alpha * kInvPi;
   for (int q = 0; q < Q; ++q) {
     const float dx = sx[q], dy = sy[q], dz = sz[q];
     const float cI = nx * dx + ny * dy + nz * dz;
@@ -532,23 +479,12 @@ void specularWeightsGrad(int Q, const float* __restrict sx, const float* __restr
     const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
     const float cH = (nx * ux + ny * uy + nz * uz) * inv;
     const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-    const float mm = std::min(1.0f, std::max(0.0f, 1.0f - woh));
-    const float mm2 = mm * mm;
-    const float fc = mm2 * mm2 * mm;
+    const float fc = shading::schlickWeight(woh);
     const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-    const float qq = cHc * cHc * a2m1 + 1;
-    const float iq = 1.0f / qq;
-    const float iq2 = iq * iq, iq3 = iq2 * iq;
-    const float D = dScale * iq2;
-    const float Ddc = dDdc * cHc * iq3;
-    const float Dda = dDda * iq3 * (qq - 2 * a2 * cHc * cHc);
-    const float sG = std::sqrt(cIc * cIc * oneMa2 + a2);  // >= alpha > 0
-    const float ics = 1.0f / (cIc + sG);
-    const float G = 2 * cIc * ics;
-    const float isG = 1.0f / sG;
-    const float dsdc = cIc * oneMa2 * isG, dsda = alpha * (1 - cIc * cIc) * isG;
-    const float Gdc = 2 * (sG - cIc * dsdc) * ics * ics;
-    const float Gda = -2 * cIc * dsda * ics * ics;
+    const shading::TermGrad Dg = shading::ggxDGrad(cHc, alpha);
+    const shading::TermGrad Gg = shading::smithG1Grad(cIc, alpha);
+    const float D = Dg.value, Ddc = Dg.dCos, Dda = Dg.dAlpha;
+    const float G = Gg.value, Gdc = Gg.dCos, Gda = Gg.dAlpha;
     const float okf = ((cI > 0) & (cH > 0) & (hl2 > 1e-16f)) ? 1.0f : 0.0f;
     const float DG = D * G * okf;
     w1[q] = DG * (1 - fc);
@@ -674,7 +610,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   const float nx = n.x(), ny = n.y(), nz = n.z();
 
   // diffuse: E_c = sum_b L_bc (n.d_b)+ over the bin centres; d/dn accumulated in the same pass
-  const float kd0 = (1 - m) * kInvPi * dOm;
+  const float kd0 = (1 - m) * shading::kLambert * dOm;
   const Vec3f gOut = wantGrad ? *gradOut : Vec3f::Zero();
   const float wA[3] = {gOut[0] * Ac[0] * kd0, gOut[1] * Ac[1] * kd0, gOut[2] * Ac[2] * kd0};
   const bool nGrad = wantGrad && nFree;
@@ -692,21 +628,21 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     gnDiffuse = Vec3f(dotLanes(lA, bx, B), dotLanes(lA, by, B), dotLanes(lA, bz, B));
   }
   Vec3f I;
-  const float kd = (1 - m) * kInvPi * dOm;
+  const float kd = (1 - m) * shading::kLambert * dOm;
   for (int ch = 0; ch < 3; ++ch) I[ch] = Ac[ch] * kd * E[ch];
 
   // specular: per sub-direction q (sub^2 consecutive ones per bin) the weights
   // DG (1 - Fc) and DG Fc, summed per bin, then against the bin's radiance
   float S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
-  KEval K{0, 0, 0};
+  shading::TermGrad K{0, 0, 0};
   const float cO = n.dot(wo);
   const float dOs = ws.subSolidAngle;
   Vec3f gnSpec = Vec3f::Zero();
   float gAlphaSpec = 0;
   if (!noSpec) {
-    K = kTerm(cO, alpha);
+    K = shading::specularK(cO, alpha);
     const int Q = ws.subPadded, s2 = ws.sub * ws.sub;
-    const float a2 = alpha * alpha, dScale = a2 * kInvPi;
+    const float a2 = alpha * alpha;
     const float wx = wo.x(), wy = wo.y(), wz = wo.z();
     const float* sx = ws.subX.data();
     const float* sy = ws.subY.data();
@@ -714,7 +650,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     float* w1 = sc.w1.data();
     float* w2 = sc.w2.data();
     if (!wantGrad) {
-      specularWeights(Q, sx, sy, sz, nx, ny, nz, wx, wy, wz, a2, dScale, w1, w2);
+      specularWeights(Q, sx, sy, sz, nx, ny, nz, wx, wy, wz, a2, w1, w2);
     } else {
       // per-direction radiance weights of the gradient: sum_c g_c F0_c L_c and sum_c g_c L_c
       float* lFq = sc.lF.data();
@@ -728,7 +664,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
         for (int b = 0; b < B; ++b)
           for (int j = 0; j < s2; ++j) lFq[b * s2 + j] = lFb[b], lgq[b * s2 + j] = lgb[b];
       for (int q = ws.subCount; q < Q; ++q) lFq[q] = lgq[q] = 0;
-      const float kq = K.k * dOs;
+      const float kq = K.value * dOs;
       float* ca = sc.a.data();  // coefficient of (wo + d) in d loss / d n
       float* cc = sc.c.data();  // coefficient of d
       float* ce = sc.e.data();  // d loss / d alpha
@@ -751,7 +687,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     for (int ch = 0; ch < 3; ++ch) {
       S1[ch] = dotLanes(Lc[ch], wb1, B);
       S2[ch] = dotLanes(Lc[ch], wb2, B);
-      I[ch] += K.k * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]);
+      I[ch] += K.value * dOs * (F0[ch] * S1[ch] + f90 * S2[ch]);
     }
   }
   if (!I.allFinite()) I = Vec3f::Zero();
@@ -766,7 +702,7 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   // diffuse
   for (int ch = 0; ch < 3; ++ch) {
     gAc[ch] += g[ch] * kd * static_cast<float>(E[ch]);
-    gM += -g[ch] * kInvPi * dOm * Ac[ch] * static_cast<float>(E[ch]);
+    gM += -g[ch] * shading::kLambert * dOm * Ac[ch] * static_cast<float>(E[ch]);
   }
   gn += gnDiffuse;
   if (!noSpec) {
@@ -774,11 +710,11 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
     for (int ch = 0; ch < 3; ++ch) {
       const float Q = static_cast<float>(dOs * (F0[ch] * S1[ch] + f90 * S2[ch]));
       gK += g[ch] * Q;
-      gF0[ch] += g[ch] * K.k * dOs * static_cast<float>(S1[ch]);
-      gF90 += g[ch] * K.k * dOs * static_cast<float>(S2[ch]);
+      gF0[ch] += g[ch] * K.value * dOs * static_cast<float>(S1[ch]);
+      gF90 += g[ch] * K.value * dOs * static_cast<float>(S2[ch]);
     }
-    if (nFree) gn += gK * K.dc * wo;
-    gAlpha += gK * K.da;
+    if (nFree) gn += gK * K.dCos * wo;
+    gAlpha += gK * K.dAlpha;
     gn += gnSpec;
     gAlpha += gAlphaSpec;
     // F0 = clamp(f0d (1 - m) + A m), F90 = min(1, 50 F0_g)

@@ -73,6 +73,43 @@ TEST(Report_Write, sample_twin_report_references_every_part_and_view_without_met
   EXPECT_FALSE(contains(page, "type=\"module\""));  // classic scripts only: works from file://
 }
 
+TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_how_to_force) {
+  TempDir dir("ps_report");
+  const fs::path out = copySampleTwin(dir);
+  // what the select stage writes: fit.candidates, best first (here six: the page shows five)
+  const fs::path mf = out / "materials/sofa_fabric.json";
+  nlohmann::json m = io::readJsonFile(mf);
+  const std::vector<std::string> graphs = {"tile_hexagon", "plaster_stucco", "paint_glossy",
+                                           "fabric_twill", "fabric_basket",  "not_a_graph"};
+  m["graph"] = "plaster_stucco";
+  m["fit"]["candidates"] = nlohmann::json::array();
+  for (size_t i = 0; i < graphs.size(); ++i)
+    m["fit"]["candidates"].push_back(
+        {{"graph", graphs[i]}, {"category", "c"}, {"score", 0.5 - 0.05 * i}, {"votes", 2}});
+  io::writeJsonFile(mf, m);
+  ReportOptions o;
+  o.viewerDir = fakeViewer(dir);
+  writeReport(out, o);
+  const std::string page = io::readTextFile(out / "report.html");
+  ASSERT_TRUE(contains(page, "id=\"candidates-sofa_fabric\""));
+  const std::string row = page.substr(page.find("id=\"candidates-sofa_fabric\""));
+  const std::string cells = row.substr(0, row.find("</tr>"));
+  for (size_t i = 0; i < 5; ++i) {
+    EXPECT_TRUE(contains(cells, graphs[i])) << graphs[i];
+    // a preview of each graph at its default parameters, written once, linked from the page
+    EXPECT_TRUE(fs::exists(out / "previews" / (graphs[i] + ".png"))) << graphs[i];
+    EXPECT_TRUE(contains(cells, "previews/" + graphs[i] + ".png")) << graphs[i];
+  }
+  EXPECT_FALSE(contains(cells, "not_a_graph"));  // top 5 only
+  EXPECT_TRUE(contains(cells, "score 0.5,"));
+  EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b>"));  // the chosen one is marked
+  EXPECT_TRUE(contains(cells, "\"sofa_fabric\": { \"graph\": \"tile_hexagon\" }"));
+  const cv::Mat preview = io::readImage(out / "previews/tile_hexagon.png");
+  EXPECT_EQ(preview.cols, o.candidatePreviewSize);
+  // parts without candidates (the other GT materials) get no row
+  EXPECT_FALSE(contains(page, "id=\"candidates-floor\""));
+}
+
 TEST(Report_Write, renders_metrics_and_loss_curves_are_shown) {
   TempDir dir("ps_report");
   const fs::path out = copySampleTwin(dir);

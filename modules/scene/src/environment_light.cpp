@@ -53,9 +53,7 @@ nlohmann::json EnvironmentLight::toJson(const LightJsonContext& ctx) const {
   nlohmann::json e;
   e["type"] = "environment";
   e["radiance"] = {radiance.x(), radiance.y(), radiance.z()};
-  if (!imagePath.empty())
-    e["image"] = std::filesystem::relative(imagePath, ctx.baseDir.empty() ? "." : ctx.baseDir)
-                     .generic_string();
+  if (!imagePath.empty()) e["image"] = ctx.refer(imagePath);
   e["rotation_deg"] = rotationDeg;
   std::vector<std::string> names;
   for (int p : windowParts) {

@@ -19,6 +19,7 @@
 #include "photoscene/io/image_io.hpp"
 #include "photoscene/io/json.hpp"
 #include "photoscene/io/scene_json.hpp"
+#include "photoscene/io/uri.hpp"
 
 namespace ps {
 
@@ -29,25 +30,10 @@ namespace {
 constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
 constexpr int kUint32 = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 
-/// `path` relative to `base` with '/' separators (a glTF URI); absolute when not under a common
-/// root.
+/// `path` relative to `base` with '/' separators (a glTF URI, RFC 3986); absolute when not
+/// under a common root.
 std::string uriFor(const fs::path& path, const fs::path& base) {
-  std::error_code ec;
-  fs::path rel = fs::relative(fs::absolute(path), fs::absolute(base), ec);
-  if (ec || rel.empty()) rel = fs::absolute(path);
-  std::string s = rel.generic_string();
-  // glTF URIs are RFC 3986: percent-encode what is not allowed in a path segment.
-  std::string out;
-  for (unsigned char c : s) {
-    if (std::isalnum(c) || std::strchr("-._~/!$&'()*+,;=:@", c)) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[4];
-      std::snprintf(buf, sizeof(buf), "%%%02X", c);
-      out += buf;
-    }
-  }
-  return out;
+  return io::relativeUri(path, base);
 }
 
 /// Appends raw bytes to the buffer (4-byte aligned) and adds a buffer view; returns its index.

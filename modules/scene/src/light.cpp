@@ -125,6 +125,61 @@ std::vector<int> LightSet::emittingParts() const {
   return out;
 }
 
+std::vector<int> LightSet::fittedLights() const {
+  std::vector<int> out;
+  const std::vector<const Light*> lights = all();
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (lights[i]->fitsScale()) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+std::string LightJsonContext::refer(const std::filesystem::path& f) const {
+  if (fileRef) return fileRef(f);
+  return std::filesystem::relative(f, baseDir.empty() ? "." : baseDir).generic_string();
+}
+
+namespace {
+
+// The mean of a light's shape vertices (its center for a rectangle); false when it has none.
+bool shapeCentroid(const Light& l, Vec3f* c) {
+  std::vector<Vec3f> v;
+  l.shapes(&v, nullptr);
+  if (v.empty()) return false;
+  Vec3f sum = Vec3f::Zero();
+  for (const Vec3f& x : v) sum += x;
+  *c = sum / static_cast<float>(v.size());
+  return true;
+}
+
+}  // namespace
+
+int matchLight(const Light& light, const std::vector<const Light*>& list, float maxDistance) {
+  const std::string type = light.type();
+  const std::vector<int> parts = light.emittingParts();
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (list[i]->type() != type) continue;
+    for (int p : list[i]->emittingParts())
+      if (std::find(parts.begin(), parts.end(), p) != parts.end()) return static_cast<int>(i);
+  }
+  const std::string label = light.label();
+  for (size_t i = 0; i < list.size(); ++i)
+    if (!label.empty() && list[i]->type() == type && list[i]->label() == label)
+      return static_cast<int>(i);
+  Vec3f c;
+  if (!parts.empty() || !shapeCentroid(light, &c)) return -1;
+  int best = -1;
+  float bestD = maxDistance;
+  for (size_t i = 0; i < list.size(); ++i) {
+    Vec3f ci;
+    if (list[i]->type() != type || !list[i]->emittingParts().empty() ||
+        !shapeCentroid(*list[i], &ci))
+      continue;
+    const float d = (ci - c).norm();
+    if (d <= bestD) bestD = d, best = static_cast<int>(i);
+  }
+  return best;
+}
+
 std::vector<int> LightSet::openingParts() const {
   std::vector<int> out;
   for (const Light* l : all())

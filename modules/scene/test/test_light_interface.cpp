@@ -3,6 +3,8 @@
 // trip through the registry, the order of LightSet::all().
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/scene.hpp"
@@ -187,6 +189,61 @@ TEST(Scene_LightInterface, unknown_light_type_is_bad_input_naming_the_key) {
     EXPECT_NE(m.find("emitters[1].type"), std::string::npos) << m;
     EXPECT_NE(m.find("\"area\""), std::string::npos) << m;
   }
+}
+
+}  // namespace
+}  // namespace ps
+
+namespace ps {
+namespace {
+
+AreaLight rectangleLight(const std::string& name, const Vec3f& center) {
+  AreaLight l;
+  l.name = name;
+  l.center = center;
+  l.edgeU = Vec3f(0.5f, 0, 0);
+  l.edgeV = Vec3f(0, 0, 0.5f);
+  return l;
+}
+
+AreaLight partLight(const std::string& name, int part) {
+  AreaLight l;
+  l.name = name;
+  l.kind = AreaLight::Kind::Part;
+  l.partId = part;
+  return l;
+}
+
+TEST(Scene_LightInterface, fitted_lights_are_those_without_a_scale_and_the_environment) {
+  LightSet set;
+  set.area.push_back(rectangleLight("a", Vec3f(0, 2, 0)));
+  set.area.push_back(rectangleLight("b", Vec3f(1, 2, 0)));
+  set.area[1].radiance = Vec3f(3, 3, 3);  // given: held
+  set.area.push_back(partLight("lamp", 4));
+  EXPECT_EQ(set.fittedLights(), (std::vector<int>{0, 2}));
+  set.environment = EnvironmentLight();  // its multiplier is always fitted
+  EXPECT_EQ(set.fittedLights(), (std::vector<int>{0, 2, 3}));
+  EXPECT_EQ(set.emittingParts(), std::vector<int>{4});
+}
+
+TEST(Scene_LightInterface, match_light_by_part_then_label_then_nearest_shape) {
+  LightSet other;
+  other.area.push_back(rectangleLight("far", Vec3f(5, 2, 5)));
+  other.area.push_back(rectangleLight("near", Vec3f(0.2f, 2, 0)));
+  other.area.push_back(partLight("renamed lamp", 7));
+  other.environment = EnvironmentLight();
+  const std::vector<const Light*> list = std::as_const(other).all();
+  // the same emitting part, whatever the name
+  EXPECT_EQ(matchLight(partLight("lamp", 7), list), 2);
+  // a part light with no part in common matches nothing (not a rectangle by distance)
+  EXPECT_EQ(matchLight(partLight("lamp", 8), list), -1);
+  // the same label
+  EXPECT_EQ(matchLight(rectangleLight("far", Vec3f(0, 2, 0)), list), 0);
+  // the nearest rectangle center within 0.5 m, else none
+  EXPECT_EQ(matchLight(rectangleLight("x", Vec3f(0, 2, 0)), list), 1);
+  EXPECT_EQ(matchLight(rectangleLight("x", Vec3f(0, 2, 3)), list), -1);
+  // infinite lights match their kind
+  EXPECT_EQ(matchLight(EnvironmentLight(), list), 3);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "photoscene/core/timer.hpp"
 #include "photoscene/io/files.hpp"
 #include "photoscene/select/part_selection.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -149,7 +150,7 @@ void logContrastPercentiles(const cv::Mat& image, const cv::Mat& mask, std::vect
     for (int x = 0; x < image.cols; ++x)
       if (mask.at<uint8_t>(y, x)) {
         const cv::Vec3f c = image.at<cv::Vec3f>(y, x);
-        l.push_back(std::log(std::max(1e-6f, 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2])));
+        l.push_back(std::log(std::max(1e-6f, luminance(c))));
       }
   const float med = percentiles(l, {0.5})[0];
   for (float v : percentiles(l, {0.05, 0.25, 0.75, 0.95})) out.push_back(v - med);

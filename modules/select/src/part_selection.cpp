@@ -11,6 +11,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/rng.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -29,10 +30,6 @@ bool PartSelectionOptions::IsValid(std::string* error) const {
 }
 
 namespace {
-
-float luminance(const cv::Vec3f& c) {
-  return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
-}
 
 /// Masked Gaussian blur by normalized convolution (0 where no mask pixel is in reach).
 cv::Mat maskedBlur(const cv::Mat& values, const cv::Mat& mask01, double sigma) {

@@ -1,6 +1,7 @@
 // A lit preview of material maps: a sphere (or a flat plane) shaded with Lambert diffuse + GGX
-// specular (alpha = roughness^2, Smith height-correlated shadowing, Schlick Fresnel with
-// F0 = lerp(0.04, albedo, metallic)) under one key light and a soft ambient term.
+// specular (alpha = roughness^2, separable Smith masking, Schlick Fresnel with
+// F0 = lerp(0.04, albedo, metallic): core/shading.hpp's terms, as the path tracer and the render
+// layer) under one key light and a soft ambient term.
 #pragma once
 
 #include "photoscene/graph/material_graph.hpp"

@@ -7,7 +7,9 @@
 //   OUT/scene.json            views (photo paths relative to OUT, cameras), geometry (part names)
 //   OUT/renders/view<i>.png   the twin rendered from input view i
 //   OUT/materials/<part>.json graph, category, params, UV transform, fit (view, loss, seconds,
-//                             skipped, and the optional loss curve `fit.history`: array of numbers)
+//                             skipped, the optional loss curve `fit.history`: array of numbers,
+//                             and `fit.candidates`: the selection's top graphs with their scores)
+//   OUT/lights.json           emitters drawn in the viewer, emitter and window parts
 //   OUT/textures/*            map thumbnails
 //   OUT/metrics.json          per-view / per-part / novel / relit metrics, stage times
 //   OUT/twin.gltf + twin.bin  the 3D viewer's scene (exported from the twin when missing)
@@ -15,6 +17,9 @@
 //   OUT/report.html
 //   OUT/renders/view<i>_diff.png  |render - photo| * 4 (linear), sRGB-encoded, when not present
 //   OUT/renders/view<i>_photo.png an sRGB copy of a photo browsers cannot show (EXR, HDR)
+//   OUT/previews/<graph>.png      each candidate graph at its default parameters on a lit sphere
+//                                 (the page's "Graph choice per part": top 5 per part with scores,
+//                                 and the scene.json line that forces one, parts.<name>.graph)
 //   OUT/viewer/photoscene-viewer.js  three.js + GLTFLoader + OrbitControls as one classic script
 //                                    (vendored and bundled at build time; nothing is fetched)
 //   OUT/viewer/twin_data.js          twin.gltf with its buffer and images as data URIs, as a
@@ -43,6 +48,9 @@ struct ReportOptions {
   bool viewer = true;
   /// Number of parameters listed per part in the table (the rest are in materials/<part>.json).
   int maxParamsPerPart = 8;
+  /// Size (pixels) of the candidate graphs' previews, OUT/previews/<graph>.png, written once per
+  /// graph; 0: no previews.
+  int candidatePreviewSize = 96;
 };
 
 /// What writeReport found and wrote.

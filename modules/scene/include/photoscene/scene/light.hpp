@@ -56,6 +56,7 @@
 
 #include "photoscene/core/math.hpp"
 #include "photoscene/io/json.hpp"
+#include "photoscene/core/color.hpp"
 
 namespace ps {
 
@@ -64,7 +65,7 @@ struct Part;
 
 /// Linear-RGB luminance (Rec. 709 weights), the measure light selection uses for power.
 inline float luminanceOf(const Vec3f& c) {
-  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+  return luminance(c);
 }
 
 /// Where a ray that left the scene went out: the first triangle of an opening part (a window)
@@ -135,6 +136,12 @@ struct LightJsonContext {
   std::string file;
   Vec3f up = Vec3f(0, 1, 0);
   bool loadImages = true;  ///< read images a light names (false: only check they exist)
+  /// toJson: how a file the light names (an image) is written into the entry. Empty: its path
+  /// relative to baseDir; an export sets it to copy the file into the output folder and return
+  /// the copy's relative path.
+  std::function<std::string(const std::filesystem::path&)> fileRef;
+  /// toJson: the path `file` is written as (fileRef, else relative to baseDir).
+  std::string refer(const std::filesystem::path& file) const;
 };
 
 /// One light source. Implementations are small value types (copyable through clone()); the
@@ -154,6 +161,9 @@ class Light {
   /// known yet (to be fitted); rendering all lights then fails.
   virtual std::optional<Vec3f> scale() const = 0;
   virtual void setScale(const Vec3f& scale) = 0;
+  /// True when the light solve fits the scale: by default when none is given; the environment's
+  /// multiplier is always fitted.
+  virtual bool fitsScale() const { return !scale().has_value(); }
 
   /// Delta position (a point or spot): sampleLi's pdf is the selection probability only and no
   /// ray ever hits it (no MIS).

@@ -124,6 +124,7 @@ class EnvironmentLight final : public Light {
   }
   std::optional<Vec3f> scale() const override { return radiance; }
   void setScale(const Vec3f& s) override { radiance = s; }
+  bool fitsScale() const override { return true; }
   bool isInfinite() const override { return true; }
   std::vector<int> openingParts() const override { return windowParts; }
   void preprocess(const LightScene& scene) override;
@@ -176,7 +177,16 @@ struct LightSet {
   /// Parts that emit (emittingParts of every light) and parts that are openings (windows).
   std::vector<int> emittingParts() const;
   std::vector<int> openingParts() const;
+  /// Indices in all() of the lights whose scale the light solve fits (Light::fitsScale).
+  std::vector<int> fittedLights() const;
 };
+
+/// Index in `list` of the light that stands for `light` in another light set (a relit or an
+/// original lights.json): the same type, and a shared emitting part, else the same label, else
+/// (lights with no emitting part) the nearest centroid of shapes() within `maxDistance` meters;
+/// -1 when none.
+int matchLight(const Light& light, const std::vector<const Light*>& list,
+               float maxDistance = 0.5f);
 
 /// The lights.json form of a light set (section 3 of the contract): "emitters" (every light but
 /// the infinite ones, in all() order), "environment" when there is one, "exposure".
