@@ -649,13 +649,15 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
 
 /// Fills the parts' fitted and true mean roughness from the case's materials files (results cached
 /// before these columns existed get them from the run folders that are still there).
-void readRoughness(const Options& o, const CaseSpec& spec, const std::string& lighting, CaseResult& r) {
+void readRoughness(const Options& o, const CaseSpec& spec, const std::string& lighting,
+                   CaseResult& r) {
   const fs::path dir = caseDir(o, spec.name, lighting);
   const fs::path runs = o.work / "runs" / spec.name / lighting;
   auto roughnessIn = [](const fs::path& file) {
     if (!fs::exists(file)) return static_cast<double>(NAN);
     const nlohmann::json m = io::readJsonFile(file);
-    if (!m.contains("homogeneous") || !m["homogeneous"].contains("roughness")) return static_cast<double>(NAN);
+    if (!m.contains("homogeneous") || !m["homogeneous"].contains("roughness"))
+      return static_cast<double>(NAN);
     return m["homogeneous"]["roughness"].get<double>();
   };
   for (PartScore& p : r.parts) {
@@ -827,7 +829,8 @@ void printSummary(const std::vector<PartScore>& rows, const std::string& split) 
       s.catParts ? 100.0 * s.catRight / s.catParts : NAN, kCategoryMinPixels, s.distMethod,
       s.distOffset, ratio, s.distBaseline, s.rmseMethod, s.rmseBaseline, s.rmseWins, s.rmseParts);
   std::printf(
-      "%-5s  roughness: fitted within %.2f of the truth on %d/%d parts = %5.1f %% (bar 80 %%), mean "
+      "%-5s  roughness: fitted within %.2f of the truth on %d/%d parts = %5.1f %% (bar 80 %%), "
+      "mean "
       "|error| %.3f\n",
       split.c_str(), kRoughnessTolerance, s.roughWithin, s.roughParts,
       s.roughParts ? 100.0 * s.roughWithin / s.roughParts : NAN, s.roughAbsErr);
@@ -1116,8 +1119,8 @@ int main(int argc, char** argv) {
             << (p.chosenCategory == p.category) << ',' << p.fitPixels << ',' << p.pixels << ','
             << p.rmseMethod << ',' << p.rmseBaseline << ',' << p.rmseOffset << ',' << p.distMethod
             << ',' << p.distBaseline << ',' << p.distOffset << ',' << p.fitSeconds << ','
-            << p.roughnessFit << ',' << p.roughnessTrue << ",\""
-            << candidatesText(p.candidates) << "\"\n";
+            << p.roughnessFit << ',' << p.roughnessTrue << ",\"" << candidatesText(p.candidates)
+            << "\"\n";
     }
     if (!sheetArg.empty()) {
       std::vector<std::string> names;
