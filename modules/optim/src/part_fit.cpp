@@ -317,16 +317,18 @@ class PartFitter {
     if (gImage.empty() && grads) gImage = cv::Mat::zeros(p.image.size(), CV_32FC3);
     double gPrior = 0;
     if (o_.roughnessPriorWeight > 0) e.prior = roughnessPriorLoss(prior_, roughness, &gPrior);
+    const double priorWeight =
+        o_.roughnessPriorWeight * (hasHighlight() ? 1.0 : o_.noHighlightPriorScale);
     cv::Mat gCeil;
     if (o_.albedoCeilingWeight > 0)
       e.ceiling = albedoCeilingLoss(maps.albedo, o_.albedoCeilingKnee, grads ? &gCeil : nullptr,
                                     o_.albedoCeilingWeight);
     e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place +
-             o_.roughnessPriorWeight * e.prior + o_.highlightWeight * e.highlight +
+             priorWeight * e.prior + o_.highlightWeight * e.highlight +
              o_.albedoCeilingWeight * e.ceiling;
     if (grads) {
       renderLayerBackward(p, gImage, *grads);
-      grads->roughnessValue += static_cast<float>(o_.roughnessPriorWeight * gPrior);
+      grads->roughnessValue += static_cast<float>(priorWeight * gPrior);
       if (!gCeil.empty()) grads->albedo += gCeil;
     }
     if (renderOut) *renderOut = p.image;
@@ -578,6 +580,9 @@ class PartFitter {
     return o_.roughnessPriorWeight > 0 ? std::min(1.0f, prior_.max) : 1.0f;
   }
   const RoughnessPrior& prior() const { return prior_; }
+  // the light predicts a highlight on the part (at full resolution): only then can the photo say
+  // how glossy it is
+  bool hasHighlight() const { return o_.highlightWeight > 0 && !levels_[0].highlight.empty(); }
   int highlightPixels() const { return static_cast<int>(levels_[0].highlight.size()); }
 
   // The spectral prior: the photo's spectrum against the albedo of `values` (see uv_spectrum.hpp).

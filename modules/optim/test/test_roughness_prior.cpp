@@ -306,3 +306,40 @@ TEST(Optim_RoughnessPrior, matte_truth_is_not_fitted_glossy) {
 
 }  // namespace
 }  // namespace ps
+
+namespace ps {
+namespace {
+
+// fitHomogeneous flags (and logs) an albedo that must exceed 1 to match the photo and stays finite
+// at black and saturated photos; refineTextured stays finite at a black photo.
+TEST(Optim_RoughnessPrior, homogeneous_fit_flags_a_clamped_albedo_and_stays_finite) {
+  Room room = makeRoom(64, 48);
+  const std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f),
+                                          lambert("ceiling", 0.8f), lambert("box", 0.6f)};
+  const PathTracer tracer(room.scene, mats);
+  const testroom::View view = prepareView(tracer, room.camera, 8, 2, 9);
+  const int part = room.floor;
+  const PartGeometry geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(),
+                                               view.grid, view.gbuffer.mask[part], part);
+  const cv::Size size = view.gbuffer.mask[part].size();
+  const cv::Mat hot(size, CV_32FC3, cv::Scalar::all(50.0)), black = cv::Mat::zeros(size, CV_32FC3);
+  const HomogeneousFit h = fitHomogeneous(geo, hot, roughnessGrid(5));
+  EXPECT_TRUE(h.albedoClamped);
+  EXPECT_GT(h.unclampedMax, 1.0f);
+  EXPECT_LE(h.albedo.maxCoeff(), 1.0f);
+  EXPECT_TRUE(std::isfinite(h.loss));
+  const HomogeneousFit b = fitHomogeneous(geo, black, roughnessGrid(5));
+  EXPECT_FALSE(b.albedoClamped);
+  EXPECT_TRUE(std::isfinite(b.loss));
+  EXPECT_TRUE(b.albedo.allFinite());
+  // the refine stays finite at a black photo (its highlight term included)
+  const cv::Mat albedo(8, 8, CV_32FC3, cv::Scalar::all(0.5)),
+      normal(8, 8, CV_32FC3, cv::Scalar(0, 0, 1));
+  const TexturedRefine r =
+      refineTextured(geo, black, view.gbuffer.mask[part], albedo, normal, UvParams{}, 0.3f, 5);
+  EXPECT_TRUE(std::isfinite(r.loss));
+  EXPECT_TRUE(std::isfinite(r.roughnessFactor));
+}
+
+}  // namespace
+}  // namespace ps

@@ -102,6 +102,11 @@ struct PartFitOptions {
   /// the steps without a coarse phase); < 2 = none. The Adam steps alone moved the one scalar
   /// slowly and stopped where the data term is flat.
   int roughnessCandidates = 0;
+  /// Where the light predicts no highlight on the part (an empty highlight region, with the
+  /// highlight term on) nothing in the photo tells how glossy it is, and the fit explained the
+  /// photo's noise and texture variance with specular sparkle: the prior's weight is multiplied by
+  /// this there.
+  float noHighlightPriorScale = 10.0f;
   bool fitUvContinuous = true;     ///< Adam also moves the UV transform between searches
   int uvSearchEvery = 50;          ///< iterations between discrete searches (0: only before the first)
   int searchRotations = 24;        ///< over [0, 360) degrees
