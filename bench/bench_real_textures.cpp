@@ -554,7 +554,14 @@ struct PartScore {
   double rmseMethod = NAN, rmseBaseline = NAN, rmseOffset = NAN;  ///< sRGB 0-255
   double distMethod = NAN, distBaseline = NAN, distOffset = NAN;  ///< texture distance to the photo
   double fitSeconds = 0;
+  /// the part's mean roughness: fitted (materials/<part>.json homogeneous.roughness, the fit's held
+  /// mean times the refine factor) and true (the mean of the material's roughness map, which
+  /// tiles the part; 0.6 for a material without one)
+  double roughnessFit = NAN, roughnessTrue = NAN;
 };
+
+/// Issue 17 item 5: fitted roughness within this of the truth.
+constexpr double kRoughnessTolerance = 0.15;
 
 struct CaseResult {
   std::vector<PartScore> parts;
@@ -588,7 +595,9 @@ nlohmann::json toJson(const CaseResult& r) {
                           {"dist_method", num(p.distMethod)},
                           {"dist_baseline", num(p.distBaseline)},
                           {"dist_offset", num(p.distOffset)},
-                          {"fit_seconds", p.fitSeconds}});
+                          {"fit_seconds", p.fitSeconds},
+                          {"roughness_fit", num(p.roughnessFit)},
+                          {"roughness_true", num(p.roughnessTrue)}});
   return j;
 }
 
@@ -618,6 +627,8 @@ CaseResult fromJson(const nlohmann::json& j) {
     s.distBaseline = num(p.at("dist_baseline"));
     s.distOffset = num(p.at("dist_offset"));
     s.fitSeconds = p.at("fit_seconds");
+    if (p.contains("roughness_fit")) s.roughnessFit = num(p["roughness_fit"]);
+    if (p.contains("roughness_true")) s.roughnessTrue = num(p["roughness_true"]);
     r.parts.push_back(s);
   }
   return r;
@@ -638,6 +649,27 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
   p.writeGltf = false;
   p.selection = o.selection;
   return p;
+}
+
+/// Fills the parts' fitted and true mean roughness from the case's materials files (results cached
+/// before these columns existed get them from the run folders that are still there).
+void readRoughness(const Options& o, const CaseSpec& spec, const std::string& lighting,
+                   CaseResult& r) {
+  const fs::path dir = caseDir(o, spec.name, lighting);
+  const fs::path runs = o.work / "runs" / spec.name / lighting;
+  auto roughnessIn = [](const fs::path& file) {
+    if (!fs::exists(file)) return static_cast<double>(NAN);
+    const nlohmann::json m = io::readJsonFile(file);
+    if (!m.contains("homogeneous") || !m["homogeneous"].contains("roughness"))
+      return static_cast<double>(NAN);
+    return m["homogeneous"]["roughness"].get<double>();
+  };
+  for (PartScore& p : r.parts) {
+    if (!std::isfinite(p.roughnessFit))
+      p.roughnessFit = roughnessIn(runs / "method/materials" / (p.part + ".json"));
+    if (!std::isfinite(p.roughnessTrue))
+      p.roughnessTrue = roughnessIn(dir / "gt/twin/materials" / (p.part + ".json"));
+  }
 }
 
 CaseResult runCase(const Options& o, const CaseSpec& spec, const std::string& lighting) {
@@ -725,6 +757,7 @@ CaseResult runCase(const Options& o, const CaseSpec& spec, const std::string& li
     }
     r.parts.push_back(s);
   }
+  readRoughness(o, spec, lighting, r);
   return r;
 }
 
@@ -741,6 +774,8 @@ std::string candidatesText(const nlohmann::json& c) {
 
 struct Summary {
   int parts = 0, catParts = 0, catRight = 0, distParts = 0, rmseParts = 0, rmseWins = 0;
+  int roughParts = 0, roughWithin = 0;
+  double roughAbsErr = 0;
   double distMethod = 0, distOffset = 0, distBaseline = 0, rmseMethod = 0, rmseBaseline = 0;
 };
 
@@ -759,6 +794,12 @@ Summary summarise(const std::vector<PartScore>& rows, const std::string& split) 
       s.distOffset += p.distOffset;
       s.distBaseline += p.distBaseline;
     }
+    if (std::isfinite(p.roughnessFit) && std::isfinite(p.roughnessTrue)) {
+      ++s.roughParts;
+      const double e = std::abs(p.roughnessFit - p.roughnessTrue);
+      s.roughWithin += e <= kRoughnessTolerance;
+      s.roughAbsErr += e;
+    }
     if (std::isfinite(p.rmseMethod) && std::isfinite(p.rmseBaseline)) {
       ++s.rmseParts;
       s.rmseMethod += p.rmseMethod;
@@ -771,6 +812,7 @@ Summary summarise(const std::vector<PartScore>& rows, const std::string& split) 
     s.distOffset /= s.distParts;
     s.distBaseline /= s.distParts;
   }
+  if (s.roughParts) s.roughAbsErr /= s.roughParts;
   if (s.rmseParts) {
     s.rmseMethod /= s.rmseParts;
     s.rmseBaseline /= s.rmseParts;
@@ -790,6 +832,12 @@ void printSummary(const std::vector<PartScore>& rows, const std::string& split) 
       split.c_str(), s.parts, s.catRight, s.catParts,
       s.catParts ? 100.0 * s.catRight / s.catParts : NAN, kCategoryMinPixels, s.distMethod,
       s.distOffset, ratio, s.distBaseline, s.rmseMethod, s.rmseBaseline, s.rmseWins, s.rmseParts);
+  std::printf(
+      "%-5s  roughness: fitted within %.2f of the truth on %d/%d parts = %5.1f %% (bar 80 %%), "
+      "mean "
+      "|error| %.3f\n",
+      split.c_str(), kRoughnessTolerance, s.roughWithin, s.roughParts,
+      s.roughParts ? 100.0 * s.roughWithin / s.roughParts : NAN, s.roughAbsErr);
 }
 
 void printConfusion(const std::vector<PartScore>& rows, const std::string& split) {
@@ -995,9 +1043,10 @@ int main(int argc, char** argv) {
     double methodSum = 0, baselineSum = 0;
     int cases = 0, failed = 0;
     bool ok = true;
-    std::printf("%-36s %-9s %-6s %-11s %-24s %-10s %6s %7s %7s %6s %6s %6s  %s\n", "material",
-                "category", "split", "part", "graph (lighting)", "chosen cat", "px", "RMSE",
-                "median", "dist", "offset", "fit s", "top-5 (vote share)");
+    std::printf("%-36s %-9s %-6s %-11s %-24s %-10s %6s %7s %7s %6s %6s %6s %5s %5s  %s\n",
+                "material", "category", "split", "part", "graph (lighting)", "chosen cat", "px",
+                "RMSE", "median", "dist", "offset", "fit s", "r fit", "r tru",
+                "top-5 (vote share)");
     std::vector<CaseSpec> specs;
     if (room20) {
       specs.push_back(room20Case(chosen));
@@ -1011,6 +1060,7 @@ int main(int argc, char** argv) {
         CaseResult r;
         if (fs::exists(result) && !force) {
           r = fromJson(io::readJsonFile(result));
+          readRoughness(o, spec, lighting, r);
         } else if (cachedOnly) {
           continue;
         } else {
@@ -1037,12 +1087,13 @@ int main(int argc, char** argv) {
         methodSum += r.methodSeconds;
         baselineSum += r.baselineSeconds;
         for (const PartScore& p : r.parts) {
-          std::printf("%-36s %-9s %-6s %-11s %-24s %-10s %6d %7.2f %7.2f %6.3f %6.3f %6.1f  %s\n",
-                      p.material.c_str(), p.category.c_str(), p.split.c_str(), p.part.c_str(),
-                      (p.graph + " (" + p.lighting + ")").substr(0, 24).c_str(),
-                      p.chosenCategory.c_str(), p.fitPixels, p.rmseMethod, p.rmseBaseline,
-                      p.distMethod, p.distOffset, p.fitSeconds,
-                      candidatesText(p.candidates).c_str());
+          std::printf(
+              "%-36s %-9s %-6s %-11s %-24s %-10s %6d %7.2f %7.2f %6.3f %6.3f %6.1f %5.2f %5.2f  "
+              "%s\n",
+              p.material.c_str(), p.category.c_str(), p.split.c_str(), p.part.c_str(),
+              (p.graph + " (" + p.lighting + ")").substr(0, 24).c_str(), p.chosenCategory.c_str(),
+              p.fitPixels, p.rmseMethod, p.rmseBaseline, p.distMethod, p.distOffset, p.fitSeconds,
+              p.roughnessFit, p.roughnessTrue, candidatesText(p.candidates).c_str());
           std::fflush(stdout);
           rows.push_back(p);
           for (double v : {p.rmseMethod, p.rmseBaseline, p.rmseOffset, p.distMethod, p.distOffset,
@@ -1076,14 +1127,15 @@ int main(int argc, char** argv) {
              "pixels,scored_pixels,"
              "rmse_fit_srgb255,rmse_pixel_median_srgb255,rmse_true_offset_srgb255,dist_fit,dist_"
              "pixel_median,"
-             "dist_true_offset,fit_seconds,top5\n";
+             "dist_true_offset,fit_seconds,roughness_fit,roughness_true,top5\n";
       for (const PartScore& p : rows)
         csv << p.material << ',' << p.category << ',' << p.split << ',' << p.lighting << ','
             << p.part << ',' << p.graph << ',' << p.chosenCategory << ','
             << (p.chosenCategory == p.category) << ',' << p.fitPixels << ',' << p.pixels << ','
             << p.rmseMethod << ',' << p.rmseBaseline << ',' << p.rmseOffset << ',' << p.distMethod
-            << ',' << p.distBaseline << ',' << p.distOffset << ',' << p.fitSeconds << ",\""
-            << candidatesText(p.candidates) << "\"\n";
+            << ',' << p.distBaseline << ',' << p.distOffset << ',' << p.fitSeconds << ','
+            << p.roughnessFit << ',' << p.roughnessTrue << ",\"" << candidatesText(p.candidates)
+            << "\"\n";
     }
     if (!sheetArg.empty()) {
       std::vector<std::string> names;

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include <spdlog/spdlog.h>
+
 #include "photoscene/optim/part_fit.hpp"
+#include "photoscene/optim/roughness_prior.hpp"
 
 namespace ps {
 
@@ -54,11 +57,17 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
       const double diffuse = sd[k] / n;
       albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoMean[k] - s0[k] / n) / diffuse) : 0.5f;
     }
+    const float over = albedo.maxCoeff();
     albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
     const cv::Mat render = i0 + d.mul(cv::Scalar(albedo.x(), albedo.y(), albedo.z()));
     const double loss = statLoss(photo, render, geo.pixels, nullptr);
-    if (loss < best.loss) best = {albedo, r, loss};
+    if (loss < best.loss) best = {albedo, r, loss, over > 1.0f, over};
   }
+  if (best.albedoClamped)
+    spdlog::warn(
+        "fitHomogeneous (part {}): the albedo that matches the photo is {:.2f} > 1 in a channel, "
+        "clamped to 1: light and albedo traded against each other (the part's light is too dim)",
+        geo.part, best.unclampedMax);
   return best;
 }
 
@@ -66,10 +75,15 @@ TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, con
                               const cv::Mat& albedo, const cv::Mat& normal, const UvParams& uv,
                               float roughness, int n) {
   TexturedRefine best;
+  // the roughness factor moves only where the light predicts a highlight (else the photo has
+  // nothing to say about gloss and the statistics prefer a sparkle that matches noise); there the
+  // highlight contrast joins the statistics (optim/roughness_prior.hpp)
+  const std::vector<cv::Point> highlight = highlightRegion(geo);
+  if (highlight.empty()) n = 1;
   best.loss = std::numeric_limits<double>::infinity();
   for (int c = 0; c < n; ++c) {
     const float factor =
-        std::exp(std::log(0.5f) + (std::log(2.0f) - std::log(0.5f)) * c / std::max(1, n - 1));
+        n == 1 ? 1.0f : std::exp(std::log(0.5f) + (std::log(2.0f) - std::log(0.5f)) * c / (n - 1));
     RenderLayerParams rp;
     rp.geometry = &geo;
     rp.uv = uv;
@@ -102,7 +116,8 @@ TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, con
         o[k] =
             std::clamp(static_cast<float>((mp[k] - m0[k] - s * md[k]) / (s * mw[k])), -0.5f, 0.5f);
     const cv::Mat render = i0 + (d + w.mul(cv::Scalar(o.x(), o.y(), o.z()))) * s;
-    const double loss = statLoss(photo, render, geo.pixels, nullptr);
+    const double loss = statLoss(photo, render, geo.pixels, nullptr) +
+                        highlightLoss(photo, render, geo.pixels, highlight, nullptr);
     if (loss < best.loss) {
       best.loss = loss;
       best.albedoScale = s;

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
+
+#include <spdlog/spdlog.h>
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"
@@ -54,6 +58,10 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     // 12 and 30 at 160x120, against 0: placement to the truth 0.299 -> 0.046 (mean), texture
     // distance to the truth 0.00105 -> 0.00077, mean albedo error 0.0100 -> 0.0115, CPU +35 %
     o.placementWeight = 0.1f;
+    o.roughnessPriorWeight = 0.01f;
+    o.roughnessCandidates = 9;
+    o.highlightWeight = 0.1f;
+    o.albedoCeilingWeight = 0.1f;
   } else if (name == "fast") {
     // 30 steps, 10 at full resolution: against the truth at 21k pixels a texture distance of
     // 0.0036 (80 steps gave 0.0064 on wood and the checker) in 69 % of balanced's time
@@ -70,6 +78,10 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     o.fineIterations = 10;
     o.learningRate = 0.03f;
     o.plateau = PlateauOptions{15, 3e-3, 40};
+    o.roughnessPriorWeight = 0.01f;
+    o.roughnessCandidates = 9;
+    o.highlightWeight = 0.1f;
+    o.albedoCeilingWeight = 0.1f;
   } else {
     PS_Check(false, "PartFitOptions::preset: unknown preset '" + name + "' (paper, balanced, fast)");
   }
@@ -103,6 +115,14 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (fineIterations < 0 || minLevelPixels < 1 || searchKeep < 1)
     return fail("fineIterations must be >= 0, minLevelPixels and searchKeep >= 1");
   if (!(fineLearningRateScale > 0)) return fail("fineLearningRateScale must be > 0");
+  if (!(roughnessPriorWeight >= 0) || !(highlightWeight >= 0) || !(albedoCeilingWeight >= 0))
+    return fail("roughnessPriorWeight, highlightWeight and albedoCeilingWeight must be >= 0");
+  if (!(albedoCeilingKnee > 0.5f && albedoCeilingKnee < 1.0f))
+    return fail("albedoCeilingKnee must be in (0.5, 1)");
+  if (!(highlight.glossyRoughness > 0.01f && highlight.glossyRoughness <= 1.0f) ||
+      !(highlight.minRatio > 0) || highlight.minPixels < 1 ||
+      !(highlight.maxFraction > highlight.minFraction))
+    return fail("highlight options out of range");
   if (!plateau.IsValid(error)) return false;
   return true;
 }
@@ -162,6 +182,7 @@ struct Level {
   std::unique_ptr<PartGeometry> ownGeo;
   std::unique_ptr<TextureLossTarget> ownTarget;
   std::unique_ptr<PlacementLossTarget> placement;  // when placementWeight > 0
+  std::vector<cv::Point> highlight;                // when highlightWeight > 0 (may be empty)
 };
 
 bool anyPs(const PartFitOptions& o) {
@@ -226,6 +247,10 @@ class PartFitter {
       c.geo = c.ownGeo.get();
       levels_.push_back(std::move(c));
     }
+    if (o.highlightWeight > 0)
+      for (Level& lv : levels_) lv.highlight = highlightRegion(*lv.geo, o.highlight);
+    prior_ =
+        roughnessPriorFor(o.roughnessCategory.empty() ? graph_.category() : o.roughnessCategory);
     coarseLevel_ = std::min(o.coarseLevels, static_cast<int>(levels_.size()) - 1);
     searchLevel_ = std::min(o.searchLevels, static_cast<int>(levels_.size()) - 1);
     const auto& params = graph_.parameters();
@@ -241,7 +266,7 @@ class PartFitter {
   }
 
   struct Eval {
-    double loss = 0, stat = 0, tex = 0, place = 0;
+    double loss = 0, stat = 0, tex = 0, place = 0, prior = 0, highlight = 0, ceiling = 0;
   };
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
@@ -287,8 +312,26 @@ class PartFitter {
     }
     if (o_.placementWeight > 0)
       e.place = placementLoss(*lv.placement, p.image, grads ? &gImage : nullptr, o_.placementWeight, !gImage.empty());
-    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place;
-    if (grads) renderLayerBackward(p, gImage, *grads);
+    if (o_.highlightWeight > 0 && !lv.highlight.empty())
+      e.highlight = highlightLoss(photo, p.image, geo.pixels, lv.highlight,
+                                  grads ? &gImage : nullptr, o_.highlightWeight);
+    if (gImage.empty() && grads) gImage = cv::Mat::zeros(p.image.size(), CV_32FC3);
+    double gPrior = 0;
+    if (o_.roughnessPriorWeight > 0) e.prior = roughnessPriorLoss(prior_, roughness, &gPrior);
+    const double priorWeight =
+        o_.roughnessPriorWeight * (hasHighlight() ? 1.0 : o_.noHighlightPriorScale);
+    cv::Mat gCeil;
+    if (o_.albedoCeilingWeight > 0)
+      e.ceiling = albedoCeilingLoss(maps.albedo, o_.albedoCeilingKnee, grads ? &gCeil : nullptr,
+                                    o_.albedoCeilingWeight);
+    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place +
+             priorWeight * e.prior + o_.highlightWeight * e.highlight +
+             o_.albedoCeilingWeight * e.ceiling;
+    if (grads) {
+      renderLayerBackward(p, gImage, *grads);
+      grads->roughnessValue += static_cast<float>(priorWeight * gPrior);
+      if (!gCeil.empty()) grads->albedo += gCeil;
+    }
     if (renderOut) *renderOut = p.image;
     return e;
   }
@@ -420,7 +463,7 @@ class PartFitter {
         mask[i] = mask_[i] && r > 0;
       }
       x[n] = st.roughness;
-      lower[n] = 0.02f, upper[n] = 1.0f;
+      lower[n] = roughnessMin(), upper[n] = roughnessMax();
       x[n + 1] = st.uv.rotation, x[n + 2] = st.uv.logScale, x[n + 3] = st.uv.offset.x(), x[n + 4] = st.uv.offset.y();
       for (int k = 1; k <= 4; ++k) {
         lower[n + k] = -1e4f, upper[n + k] = 1e4f;
@@ -508,7 +551,40 @@ class PartFitter {
     return bestLoss;
   }
 
+  // A line search over the held roughness with the state's maps and UV transform: `n` values
+  // log-spaced over the allowed range, and the current one; the state takes the best. Adam alone
+  // moves one scalar slowly and stops where the data term is flat.
+  void searchRoughness(FitState& s, int level, int n, PartFitResult& res) {
+    if (n < 2) return;
+    const MaterialMaps m = maps(s.values);
+    // the render's channel means are matched to the photo's (as in the UV search): the albedo was
+    // fitted under the current roughness, and the mean term would hold the roughness where it is
+    double best =
+        evaluate(level, m, s.uv, s.roughness, o_.specularSub, nullptr, nullptr, true).loss;
+    const float lo = roughnessMin(), hi = roughnessMax();
+    const bool debug = std::getenv("PS_DEBUG_ROUGHNESS") != nullptr;
+    for (int i = 0; i < n; ++i) {
+      const float r = lo * std::pow(hi / lo, static_cast<float>(i) / (n - 1));
+      const double l = evaluate(level, m, s.uv, r, o_.specularSub, nullptr, nullptr, true).loss;
+      if (debug) std::fprintf(stderr, "roughness search: r %.3f loss %.5f\n", r, l);
+      ++res.candidates;
+      if (l < best) best = l, s.roughness = r;
+    }
+    if (debug) std::fprintf(stderr, "roughness search: picked %.3f\n", s.roughness);
+  }
+
   int coarseLevel() const { return coarseLevel_; }
+  float roughnessMin() const {
+    return o_.roughnessPriorWeight > 0 ? std::max(0.02f, prior_.min) : 0.02f;
+  }
+  float roughnessMax() const {
+    return o_.roughnessPriorWeight > 0 ? std::min(1.0f, prior_.max) : 1.0f;
+  }
+  const RoughnessPrior& prior() const { return prior_; }
+  // the light predicts a highlight on the part (at full resolution): only then can the photo say
+  // how glossy it is
+  bool hasHighlight() const { return o_.highlightWeight > 0 && !levels_[0].highlight.empty(); }
+  int highlightPixels() const { return static_cast<int>(levels_[0].highlight.size()); }
 
   // The spectral prior: the photo's spectrum against the albedo of `values` (see uv_spectrum.hpp).
   UvSpectrumEstimate estimateSpectrum(const std::vector<float>& values) {
@@ -540,6 +616,7 @@ class PartFitter {
   std::vector<float> lo_, hi_;
   std::vector<uint8_t> mask_;
   UvSpectrumEstimate spectrum_;
+  RoughnessPrior prior_;
   bool cancelled_ = false;  // onProgress returned false
   int iterations_ = 0;      // Adam steps before the running search (for its progress reports)
   double stateLoss_ = 0;    // the last evaluated state's loss (for search progress reports)
@@ -561,7 +638,9 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   start.values = graph.values();
   start.uv = initialUv;
   const float meanR = f.meanRoughness(start.values);
-  start.roughness = clampv(meanR, 0.02f, 1.0f);
+  start.roughness = clampv(meanR, f.roughnessMin(), f.roughnessMax());
+  if (options.roughnessPriorWeight > 0) res.roughnessPrior = f.prior();
+  res.highlightPixels = f.highlightPixels();
   {
     const PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
     res.initialLoss = e0.loss;
@@ -598,11 +677,16 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     if (remaining > fine && !res.cancelled)
       f.run(s, remaining - fine, options.restarts == 0, true, coarse, res, true);
     res.coarseIterations = static_cast<int>(res.history.size());
+    if (!res.cancelled) f.searchRoughness(s, 0, options.roughnessCandidates, res);
     if (fine > 0 && !res.cancelled)
       f.run(s, fine, options.restarts == 0 && remaining == fine, false, 0, res, true,
             remaining > fine ? options.fineLearningRateScale : 1.0f);
   } else if (!res.cancelled) {
     f.run(s, remaining, options.restarts == 0, true, 0, res, true);
+    if (!res.cancelled && options.roughnessCandidates > 1) {
+      // the line search last (no coarse phase: no fine steps after it)
+      f.searchRoughness(s, 0, options.roughnessCandidates, res);
+    }
   }
   const PartFitter::Eval e = f.evaluate(0, f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
   res.values = s.values;
@@ -614,6 +698,23 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   res.lossStat = e.stat;
   res.lossTexture = e.tex;
   res.lossPlacement = e.place;
+  res.lossPrior = e.prior;
+  res.lossHighlight = e.highlight;
+  res.lossCeiling = e.ceiling;
+  {
+    const MaterialMaps m = f.maps(s.values);
+    res.albedoAtCeiling = albedoFractionAtCeiling(m.albedo, 0.99f);
+    const float worst =
+        std::max({res.albedoAtCeiling[0], res.albedoAtCeiling[1], res.albedoAtCeiling[2]});
+    res.albedoPinned = worst > 0.2f;
+    if (res.albedoPinned)
+      spdlog::warn(
+          "fitPart {}: the albedo is pinned at 1.0 (texels >= 0.99: R {:.0f} %, G {:.0f} %, B "
+          "{:.0f} %): light and "
+          "albedo traded against each other (the part's light is too dim for its photo)",
+          graph.name(), 100 * res.albedoAtCeiling[0], 100 * res.albedoAtCeiling[1],
+          100 * res.albedoAtCeiling[2]);
+  }
   res.seconds = timer.seconds();
   return res;
 }

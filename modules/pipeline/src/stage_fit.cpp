@@ -16,8 +16,10 @@ namespace {
 // The fit's version: 2 = the spectral UV prior and `balanced` at 100 steps; 3 = the
 // full-resolution steps after the coarse phase at a quarter of the learning rate; 4 = `balanced`
 // at 40 steps, `fast` at 30; 5 = the placement term (Eq. 9's pixel term) in `balanced`; 6 = the
-// photo divided by its view's exposure (parts fitted in a view other than view 0).
-constexpr uint64_t kFitVersion = 6;
+// photo divided by its view's exposure (parts fitted in a view other than view 0); 7 = the
+// roughness prior, highlight term, albedo ceiling and roughness line search
+// (optim/roughness_prior.hpp).
+constexpr uint64_t kFitVersion = 7;
 
 class FitStage : public Stage {
  public:

@@ -24,6 +24,10 @@ struct HomogeneousFit {
   Vec3f albedo = Vec3f::Constant(0.5f);  ///< linear RGB in [0, 1]
   float roughness = 0.7f;
   double loss = 0;  ///< statLoss of the fitted render against the photo
+  /// the albedo that matches the photo's mean was above 1 in a channel and is clamped (logged as a
+  /// warning): the light is too dim for the photo, light and albedo traded against each other
+  bool albedoClamped = false;
+  float unclampedMax = 0;  ///< its largest channel before the clamp
 };
 
 /// `n` roughness values evenly spaced over [0.15, 0.95] (0.15 alone for n = 1).
@@ -44,7 +48,9 @@ struct TexturedRefine {
   double loss = 0;                     ///< statLoss of the best candidate
 };
 
-/// Per roughness factor in `candidates` values log-spaced over [0.5, 2]: the one albedo scale s
+/// Per roughness factor in `candidates` values log-spaced over [0.5, 2] (only 1 where the light
+/// predicts no highlight on the part: ps::highlightRegion is empty; there the loss also has the
+/// highlight term ps::highlightLoss): the one albedo scale s
 /// that matches the photo's channel means by least squares, then the per-channel offset o that
 /// matches each channel's mean, so the colour comes out right where the graph's colour
 /// parameters could not reach it; the factor with the lowest statLoss wins.

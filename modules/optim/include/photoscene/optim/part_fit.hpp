@@ -3,13 +3,18 @@
 // matches the photo.
 //
 //   loss = statWeight * L_stat + textureWeight * L_tex + placementWeight * L_place
-//   L_stat = sum_c |mu_c(photo) - mu_c(render)| / nu + |var_c(photo) - var_c(render)| / nu^2  (Eq. 6-8,
+//   L_stat = sum_c |mu_c(photo) - mu_c(render)| / nu + |var_c(photo) - var_c(render)| / nu^2  (Eq.
+//   6-8,
 //            masked; nu = mean photo luminance over the mask, so the loss is unitless)
 //   L_tex  = ps::textureLossForward (masked multi-scale texture statistics, the Eq. 9 stand-in;
 //            optionally with the joint statistics of features/texture_ps.hpp, `ps*` below)
 //   L_place = ps::placementLoss (features/texture_placement.hpp: 1 - the correlation of the
 //            low-passed luminances of render and photo over the mask; Eq. 9's pixel term after the
 //            warp: the caller's photo is the aligned one). On in "balanced" (0.1), off elsewhere.
+//   + roughnessPriorWeight * L_prior + highlightWeight * L_hl + albedoCeilingWeight * L_ceil
+//            (optim/roughness_prior.hpp: the category's log-roughness prior, the highlight
+//            contrast where the incident light predicts one, a soft barrier on albedo near 1;
+//            on in "balanced" and "fast", off in "paper")
 //
 // The roughness output of the graph is replaced by one scalar while fitting (initialised to the
 // mean of the graph's roughness map); the result says how to rescale the full map to it.
@@ -36,6 +41,7 @@
 #include "photoscene/features/texture_placement.hpp"
 #include "photoscene/graph/material_graph.hpp"
 #include "photoscene/optim/adam.hpp"
+#include "photoscene/optim/roughness_prior.hpp"
 #include "photoscene/optim/uv_spectrum.hpp"
 #include "photoscene/render/render_layer.hpp"
 
@@ -78,6 +84,29 @@ struct PartFitOptions {
   /// the geometry's pixels); all 0 = the caller's target as it is.
   float psAutoLowpass = 0.0f, psAutoMagnitude = 0.0f, psCrossOrientation = 0.0f,
         psCrossScale = 0.0f, psColor = 0.0f;
+  /// Weight of the roughness prior L_prior (0 = off; roughness free in [0.02, 1]). On, the fit
+  /// also keeps the roughness in the prior's [min, max] and starts it there.
+  float roughnessPriorWeight = 0.0f;
+  /// The category whose prior is used ("" = the graph's own category).
+  std::string roughnessCategory;
+  /// Weight of the highlight term L_hl (0 = off): the highlight contrast of photo and render over
+  /// the pixels where the incident light predicts a highlight (none predicted: the term is 0).
+  float highlightWeight = 0.0f;
+  HighlightOptions highlight;
+  /// Weight of the albedo ceiling L_ceil (0 = off) and its knee: albedo texels above the knee are
+  /// pushed down softly, so that a channel does not pin at 1.0.
+  float albedoCeilingWeight = 0.0f;
+  float albedoCeilingKnee = 0.9f;
+  /// A line search over the held roughness (this many values log-spaced over its allowed range,
+  /// with the state's maps and UV transform, at full resolution) before the fine steps (or after
+  /// the steps without a coarse phase); < 2 = none. The Adam steps alone moved the one scalar
+  /// slowly and stopped where the data term is flat.
+  int roughnessCandidates = 0;
+  /// Where the light predicts no highlight on the part (an empty highlight region, with the
+  /// highlight term on) nothing in the photo tells how glossy it is, and the fit explained the
+  /// photo's noise and texture variance with specular sparkle: the prior's weight is multiplied by
+  /// this there.
+  float noHighlightPriorScale = 10.0f;
   bool fitUvContinuous = true;     ///< Adam also moves the UV transform between searches
   int uvSearchEvery = 50;          ///< iterations between discrete searches (0: only before the first)
   int searchRotations = 24;        ///< over [0, 360) degrees
@@ -138,6 +167,13 @@ struct PartFitResult {
   float roughnessScale = 1.0f;     ///< multiplies the graph's roughness map to that mean
   double loss = 0, lossStat = 0, lossTexture = 0;  ///< at the returned values
   double lossPlacement = 0;                         ///< L_place at the returned values (0 if off)
+  double lossPrior = 0, lossHighlight = 0, lossCeiling = 0;  ///< L_prior, L_hl, L_ceil (0 if off)
+  RoughnessPrior roughnessPrior;  ///< the prior used (when roughnessPriorWeight > 0)
+  int highlightPixels = 0;        ///< pixels of the highlight region at full resolution (0: none)
+  /// fraction of the fitted albedo map's texels >= 0.99 per channel; `albedoPinned` when a
+  /// channel has more than 20 % of its texels there (logged as a warning: light and albedo traded)
+  cv::Vec3f albedoAtCeiling = cv::Vec3f(0, 0, 0);
+  bool albedoPinned = false;
   double initialLoss = 0, initialTextureLoss = 0;  ///< at the start (defaults, initial UV)
   int iterations = 0;              ///< Adam steps taken (all starts)
   int searches = 0;                ///< discrete UV searches run
