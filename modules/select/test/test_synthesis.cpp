@@ -89,10 +89,15 @@ Part renderFloor(const MaterialMaps* maps) {
   return s;
 }
 
-PartFitOptions quickFit() {
-  PartFitOptions o = PartFitOptions::preset("fast");
-  o.mapSize = 64;
-  return o;
+/// chooseBySynthesis on the floor with `shortlist` graphs of the vote, 10 steps, maps of 64.
+SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
+                       int shortlist) {
+  PartFitOptions fit = PartFitOptions::preset("fast");
+  fit.mapSize = 64;
+  SynthesisOptions o;
+  o.shortlist = shortlist;
+  o.steps = 10;
+  return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
 TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
@@ -113,11 +118,7 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   const std::vector<GraphVote> votes = {vote("fabric_twill", "fabric", 3),
                                         vote("paint_matte_wall", "paint", 2),
                                         vote("wood_planks", "wood", 1)};
-  SynthesisOptions o;
-  o.shortlist = 3;
-  o.steps = 10;
-  const SynthesisChoice c = chooseBySynthesis(lib, votes, s.geo, s.photo,
-                                              TextureLossTarget(s.photo, s.mask), quickFit(), o);
+  const SynthesisChoice c = choose(lib, s, votes, 3);
   EXPECT_EQ(c.graph, "wood_planks");
   EXPECT_EQ(c.category, "wood");
   ASSERT_EQ(c.finalists.size(), 4u);  // three graphs and homogeneous
@@ -134,11 +135,7 @@ TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {
   const Part s = renderFloor(nullptr);
   const std::vector<GraphVote> votes = {vote("wood_planks", "wood", 3),
                                         vote("stone_marble_white", "stone", 2)};
-  SynthesisOptions o;
-  o.shortlist = 2;
-  o.steps = 10;
-  const SynthesisChoice c = chooseBySynthesis(lib, votes, s.geo, s.photo,
-                                              TextureLossTarget(s.photo, s.mask), quickFit(), o);
+  const SynthesisChoice c = choose(lib, s, votes, 2);
   EXPECT_EQ(c.graph, "homogeneous");
   for (const SynthesisFinalist& f : c.finalists) {
     EXPECT_TRUE(std::isfinite(f.loss)) << f.graph;
