@@ -6,6 +6,7 @@
 #include <opencv2/ximgproc.hpp>
 #include <set>
 
+#include "photoscene/core/color.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 
@@ -397,7 +398,8 @@ cv::Vec3f maskedMedian(const cv::Mat& image, const cv::Mat& mask) {
 namespace {
 
 double logLuminance(const cv::Vec3f& c, double exposure) {
-  const double lum = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+  const double lum = luminance(static_cast<double>(c[0]), static_cast<double>(c[1]),
+                               static_cast<double>(c[2]));
   return std::log(std::max(1e-4, lum / exposure));
 }
 

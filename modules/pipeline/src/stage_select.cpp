@@ -56,13 +56,13 @@ class SelectStage : public Stage {
       const SynthesisOptions synthesis = in.synthesisOptions();
       PartSelectionOptions so;
       if (synthesis.shortlist > 0 || synthesis.categories > 0) so.k = synthesis.voteK;
+      const bool aligned = cv::countNonZero(fit) > 0;
       const GraphChoice c =
-          cv::countNonZero(fit) > 0
-              ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv, cv::Mat(),
-                              so)
-              : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat(), cv::Mat(), so);
+          aligned ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv,
+                                  cv::Mat(), so)
+                  : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat(), cv::Mat(), so);
       p.graph = c.graph;
-      if ((synthesis.shortlist > 0 || synthesis.categories > 0) && cv::countNonZero(fit) > 0) {
+      if ((synthesis.shortlist > 0 || synthesis.categories > 0) && aligned) {
         // the vote shortlists; short fits on the part itself decide (and texture or not)
         // the photo as the render sees it: divided by the view's exposure (as the fit stage)
         const cv::Mat part = partPhoto(photo, view, p.id) / ctx.viewExposure(p.view);

@@ -126,7 +126,7 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
     EXPECT_TRUE(std::isfinite(c.finalists[i].loss)) << c.finalists[i].graph;
     if (i > 0) EXPECT_LE(c.finalists[i - 1].loss, c.finalists[i].loss);
   }
-  // the winner carries its short fit (a warm start for the real fit)
+  // the winner carries its short fit (its values, UV and roughness)
   EXPECT_FALSE(c.finalists.front().fit.values.empty());
 }
 

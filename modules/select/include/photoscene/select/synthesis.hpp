@@ -46,7 +46,7 @@ struct SynthesisFinalist {
   double vote = 0;     ///< share of the kNN vote (0: added for its category or as homogeneous)
   double loss = 0;     ///< fit loss after the short fit
   double seconds = 0;  ///< of the short fit
-  PartFitResult fit;   ///< the short fit (values, UV, roughness: a warm start for the real fit)
+  PartFitResult fit;   ///< the short fit (values, UV, roughness; the pipeline's fit starts afresh)
 };
 
 struct SynthesisChoice {
