@@ -1,8 +1,9 @@
 // Stages `lights0` and `lights1`: the scale of every light whose scale is fitted
 // (Light::fitsScale), by non-negative least squares over per-light renders (one trace for all
-// lights, PathTracer::renderPerLight; lighting module); round 0 under the neutral materials,
-// round 1 under the fitted ones over every view (per-view exposure with several views). The
-// result is written into the scene the later path tracers see.
+// lights, PathTracer::renderPerLight; lighting module); round 0 under the neutral materials
+// (on the pixels of the parts of given material alone, where they suffice), round 1 under the
+// fitted ones over every view (per-view exposure with several views). The result is written
+// into the scene the later path tracers see.
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -36,8 +37,8 @@ class LightsStage : public Stage {
     }
     decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
     // 2: float photos (EXR, HDR) are not clipped at 0.99; 3: the photos divided by the
-    // exposures known before the solve
-    decl.version = 3;
+    // exposures known before the solve; 4: round 0 anchored on the parts of given material
+    decl.version = 4;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -98,6 +99,7 @@ class LightsStage : public Stage {
       }
       data.push_back(std::move(d));
     }
+    if (round_ == 0) anchorOnFixedParts(ctx, data);
     lighting::SolveOptions so;
     so.saturation = std::numeric_limits<double>::infinity();  // per view above
     so.perViewExposure = ctx.views.size() > 1;
@@ -129,6 +131,56 @@ class LightsStage : public Stage {
   }
 
  private:
+  // Round 0 knows no albedo of a part to be fitted: its guess (photo median x pin) carries the
+  // light's colour and level, so a solve over those pixels reads a warm light as neutral and
+  // paints the warmth into the albedos. Parts of given material (`fixed`) do not: where they
+  // fill enough of the views and every free light reaches them, round 0 solves on their pixels
+  // alone, so colour and level come from known albedos. Else the whole light mask stays.
+  void anchorOnFixedParts(const Context& ctx, std::vector<lighting::ViewLightData>& data) const {
+    std::vector<cv::Mat> masks;
+    int pixels = 0, total = 0;
+    std::vector<double> onFixed(data.empty() ? 0 : data[0].perLight.size(), 0.0);
+    std::vector<double> onAll(onFixed.size(), 0.0);
+    for (size_t v = 0; v < data.size(); ++v) {
+      cv::Mat m = cv::Mat::zeros(data[v].mask.size(), CV_8UC1);
+      for (const PartWork& p : ctx.parts) {
+        if (p.mode != PartMode::Fixed) continue;
+        const auto it = ctx.views[v].photoMask.find(p.id);
+        if (it != ctx.views[v].photoMask.end() && it->second.size() == m.size()) m |= it->second;
+      }
+      m &= data[v].mask;
+      pixels += cv::countNonZero(m);
+      total += cv::countNonZero(data[v].mask);
+      for (size_t k = 0; k < onFixed.size() && k < data[v].perLight.size(); ++k) {
+        onFixed[k] += energy(data[v].perLight[k], m);
+        onAll[k] += energy(data[v].perLight[k], data[v].mask);
+      }
+      masks.push_back(std::move(m));
+    }
+    const int minPixels = std::max(kAnchorMinPixels, static_cast<int>(kAnchorMinShare * total));
+    if (pixels < minPixels) return;
+    for (size_t k = 0; k < onFixed.size(); ++k)
+      if (onAll[k] > 0 && onFixed[k] < kAnchorMinLightShare * onAll[k]) {
+        spdlog::info("{}: not anchored on the fixed parts: free light {} barely reaches them",
+                     decl.name, k);
+        return;
+      }
+    for (size_t v = 0; v < data.size(); ++v) data[v].mask = masks[v];
+    spdlog::info("{}: anchored on the parts of given material ({} px of {})", decl.name, pixels,
+                 total);
+  }
+
+  // sum over the mask of a render's three channels
+  static double energy(const cv::Mat& render, const cv::Mat& mask) {
+    const int n = cv::countNonZero(mask);
+    if (n == 0) return 0;
+    const cv::Scalar m = cv::mean(render, mask);
+    return (m[0] + m[1] + m[2]) * n;
+  }
+
+  static constexpr int kAnchorMinPixels = 500;
+  static constexpr double kAnchorMinShare = 0.02;      ///< of the usable pixels
+  static constexpr double kAnchorMinLightShare = 0.05; ///< of each free light's energy
   int round_;
   std::vector<Vec3d> intensity_;
   std::vector<double> exposure_;

@@ -46,10 +46,15 @@ Vec3f trueAlbedo(int id) {
 /// 0.8), from every camera, times `exposure[v]`, as linear EXR photos with label images, and
 /// writes DIR/scene.json over the coarse geometry with the two ceiling lights to fit and every
 /// part's graph `homogeneous` (the fit in closed form: what is tested is the exposure).
-void makeCase(const fs::path& dir, const std::vector<double>& exposure) {
+/// `tint` multiplies every light's radiance in the photos (not in scene.json, whose lights are
+/// fitted); the parts in `fixed` are given in scene.json with their true material.
+void makeCase(const fs::path& dir, const std::vector<double>& exposure,
+              const Vec3f& tint = Vec3f(1, 1, 1), const std::set<std::string>& fixed = {}) {
   fs::create_directories(dir / "photos");
   fs::create_directories(dir / "segments");
-  const Twin twin = loadTwin(kSample / "gt/twin");
+  Twin twin = loadTwin(kSample / "gt/twin");
+  for (Light* l : twin.scene.lights.all())
+    if (const std::optional<Vec3f> s = l->scale()) l->setScale(s->cwiseProduct(tint));
   std::vector<PartMaterial> materials;
   for (const Part& p : twin.scene.parts) {
     PartMaterial m = PartMaterial::defaultGray(p.name);
@@ -87,7 +92,13 @@ void makeCase(const fs::path& dir, const std::vector<double>& exposure) {
   nlohmann::json scene = io::readJsonFile(kSample / "scene.json");
   scene["geometry"] = (kSample / "room.obj").string();
   scene["views"] = views;
-  for (const Part& p : twin.scene.parts) scene["parts"][p.name]["graph"] = "homogeneous";
+  for (const Part& p : twin.scene.parts) {
+    const Vec3f a = trueAlbedo(p.id);
+    if (fixed.count(p.name))
+      scene["parts"][p.name]["fixed"] = {{"albedo", {a.x(), a.y(), a.z()}}, {"roughness", 0.8}};
+    else
+      scene["parts"][p.name]["graph"] = "homogeneous";
+  }
   io::writeJsonFile(dir / "scene.json", scene);
 }
 
@@ -193,6 +204,46 @@ TEST_F(MultiView, one_photo_twice_as_bright_doubles_its_exposure_and_keeps_the_a
       EXPECT_NEAR(pb.at(name).first[c] / a.first[c], 1.0, 0.02)
           << name << " channel " << c << " (fitted in view " << a.second << ")";
   }
+}
+
+// Under a warm light, with the walls given (`fixed`): the light solve anchors its colour and
+// level on the walls' known albedos, so the fitted albedos are the true ones, colour and level,
+// not a neutral light and albedos that carry its warmth at the pinned mean.
+TEST(FixedPartsAnchor, a_warm_light_and_the_albedo_level_come_from_the_given_walls) {
+  io::TempDir dir("ps-anchor");
+  const Vec3f warm(1.0f, 0.72f, 0.45f);
+  makeCase(dir.path() / "c", {1.0, 1.0, 1.0}, warm, {"wall_back", "wall_left", "wall_right"});
+  PipelineOptions o = caseOptions(dir.path() / "c");
+  const PipelineResult r = runPipeline(o);
+  const Scene scene = loadScene(dir.path() / "c/scene.json", {.loadPhotos = false});
+  const auto got = fittedAlbedos(dir.path() / "c/twin", 300, 0.3);
+  ASSERT_GE(got.size(), 3u);
+  for (const auto& [name, a] : got) {
+    const Vec3d truth = trueAlbedo(scene.partId(name)).cast<double>();
+    std::printf("%-12s albedo %.3f %.3f %.3f  truth %.3f %.3f %.3f\n", name.c_str(), a.first[0],
+                a.first[1], a.first[2], truth[0], truth[1], truth[2]);
+    // the level within 12 % (measured: 1-11 %, the rug under the table the worst), the colour
+    // (each channel against green) within 5 %
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(a.first[c] / truth[c], 1.0, 0.12) << name << " channel " << c;
+    for (int c : {0, 2})
+      EXPECT_NEAR((a.first[c] / a.first[1]) / (truth[c] / truth[1]), 1.0, 0.05)
+          << name << " channel " << c << " against green";
+  }
+  // the solved lights carry the tint: each channel's ratio to the true radiance times the tint
+  // is one number per light (the level), within 5 %
+  const nlohmann::json lights = io::readJsonFile(dir.path() / "c/twin/lights.json");
+  const nlohmann::json truth = io::readJsonFile(kSample / "gt/twin/lights.json");
+  ASSERT_EQ(lights["emitters"].size(), truth["emitters"].size());
+  for (size_t k = 0; k < truth["emitters"].size(); ++k) {
+    double ratio[3];
+    for (int c = 0; c < 3; ++c)
+      ratio[c] = lights["emitters"][k]["radiance"][c].get<double>() /
+                 (truth["emitters"][k]["radiance"][c].get<double>() * warm[c]);
+    EXPECT_NEAR(ratio[1] / ratio[0], 1.0, 0.05) << "light " << k;
+    EXPECT_NEAR(ratio[2] / ratio[0], 1.0, 0.05) << "light " << k;
+  }
+  (void)r;
 }
 
 // ---------------------------------------------------------------- the multi-view example
