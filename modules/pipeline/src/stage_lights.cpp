@@ -29,7 +29,7 @@ class LightsStage : public Stage {
                   "lights",         "views[].camera",
                   "views[].image",  "views[].color_space",
                   "parts.{}.fixed", "options.seed"};
-    decl.options = {"preset", "work_width"};
+    decl.options = {"preset", "work_width", "baseline"};
     decl.after = {"parts", "geometry", "align", "observe", "pin"};
     if (round == 1) {
       decl.options.push_back("library");
@@ -99,7 +99,9 @@ class LightsStage : public Stage {
       }
       data.push_back(std::move(d));
     }
-    if (round_ == 0) anchorOnFixedParts(ctx, data);
+    // the pixel-median baseline's albedos are the neutral guesses themselves: its lights are
+    // the ones solved with them, not anchored (else it renders at another level than its photo)
+    if (round_ == 0 && in.baseline() != Baseline::PixelMedian) anchorOnFixedParts(ctx, data);
     lighting::SolveOptions so;
     so.saturation = std::numeric_limits<double>::infinity();  // per view above
     so.perViewExposure = ctx.views.size() > 1;
