@@ -974,13 +974,16 @@ int main(int argc, char** argv) {
   app.add_option("--preset", o.preset, "pipeline preset of the method");
   app.add_option("--threads", o.threads, "threads (0 = all cores)");
   // selection by synthesis (select/synthesis.hpp), for the accuracy-against-time sweep: any of
-  // these replaces the preset's settings by SynthesisOptions' defaults plus the ones given
+  // these replaces the preset's settings by the preset's own (synthesisPreset) plus the ones given
   SynthesisOptions synthesis;
+  int startDraw = 1;
   app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
   app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
   app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
   app.add_option("--select-vote-k", synthesis.voteK, "neighbours of the vote listing finalists");
   app.add_option("--select-margin", synthesis.textureMargin, "a graph beats homogeneous by this");
+  app.add_option("--select-start-draw", startDraw,
+                 "1: finalists start from their nearest draw, 0: from their defaults");
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
   app.add_option("--spp", o.spp,
@@ -1001,8 +1004,17 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   o.lightings = splitList(lightingsArg);
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
-                           "--select-vote-k", "--select-margin"})
-    if (app.count(flag) > 0) o.selection = synthesis;
+                           "--select-vote-k", "--select-margin", "--select-start-draw"})
+    if (app.count(flag) > 0) {
+      SynthesisOptions s = synthesisPreset(o.preset);
+      if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
+      if (app.count("--select-categories")) s.categories = synthesis.categories;
+      if (app.count("--select-steps")) s.steps = synthesis.steps;
+      if (app.count("--select-vote-k")) s.voteK = synthesis.voteK;
+      if (app.count("--select-margin")) s.textureMargin = synthesis.textureMargin;
+      s.startFromNearestDraw = startDraw != 0;
+      o.selection = s;
+    }
 
   if (!fs::exists(o.data / "textures/cc0/manifest.json")) {
     std::printf("SKIP: no %s\n", (o.data / "textures/cc0/manifest.json").string().c_str());

@@ -114,7 +114,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.steps)
           .add(s.voteK)
           .add(s.homogeneous)
-          .add(s.textureMargin);
+          .add(s.textureMargin)
+          .add(s.startFromNearestDraw);
     } else {
       h.add(0);
     }

@@ -35,6 +35,10 @@ int PipelineResult::computedUnits() const {
   return n;
 }
 
+SynthesisOptions synthesisPreset(const std::string& preset) {
+  return pipeline::PresetBudget::of(preset).synthesis;
+}
+
 namespace pipeline {
 
 PresetBudget PresetBudget::of(const std::string& preset) {

@@ -22,8 +22,8 @@ class SelectStage : public Stage {
     decl.writes = {"PartWork::graph",      "PartWork::category",  "PartWork::runnersUp",
                    "PartWork::candidates", "PartWork::finalists", "PartMode::Homogeneous"};
     // 2: the cached entry holds the vote's top 5 (materials fit.candidates); 3: selection by
-    // synthesis (fit.finalists)
-    decl.version = 3;
+    // synthesis (fit.finalists); 4: finalists start from their nearest draw
+    decl.version = 4;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -71,8 +71,9 @@ class SelectStage : public Stage {
         if (geo.size() >= 16) {
           PartFitOptions o = in.fitOptions();
           o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
-          const SynthesisChoice s = chooseBySynthesis(in.library(), c.votes, geo, part,
-                                                      TextureLossTarget(part, fit), o, synthesis);
+          const SynthesisChoice s =
+              chooseBySynthesis(in.library(), c.votes, geo, part, TextureLossTarget(part, fit), o,
+                                synthesis, &bank_->options());
           if (!s.graph.empty()) p.graph = s.graph;
           for (const SynthesisFinalist& f : s.finalists)
             p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds});

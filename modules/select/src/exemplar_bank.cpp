@@ -263,7 +263,7 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
     for (int d = 0; d < options.drawsPerGraph; ++d) {
       const uint64_t seed =
           mix64(options.seed ^ nameHash(bank.graphNames_[g])) + static_cast<uint64_t>(d);
-      graph.setValues(d == 0 ? graph.defaultValues() : graph.randomValues(seed, options.spread));
+      graph.setValues(bankDrawValues(graph, options, d));
       const MaterialMaps maps =
           graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       Rng rng(seed, 17);
@@ -302,6 +302,13 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
       graphs, options.drawsPerGraph, scales, options.observedPerDraw, bank.rows(), bank.dim_,
       bank.buildSeconds_);
   return bank;
+}
+
+std::vector<float> bankDrawValues(const MaterialGraph& graph, const ExemplarBankOptions& options,
+                                  int draw) {
+  if (draw <= 0) return graph.defaultValues();
+  const uint64_t seed = mix64(options.seed ^ nameHash(graph.name())) + static_cast<uint64_t>(draw);
+  return graph.randomValues(seed, options.spread);
 }
 
 void ExemplarBank::rebuildIndex(KnnIndexType type) {
@@ -592,6 +599,7 @@ GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool cate
     const Exemplar& e = exemplars_[r.index[i]];
     const double w = 1.0 / (r.distance[i] + 1e-6);
     GraphVote& v = votes[e.graph];
+    if (v.count == 0) v.nearestDraw = e.draw;  // rows come nearest first
     v.graph = graphNames_[e.graph];
     v.category = categories_[e.graph];
     v.weight += w;

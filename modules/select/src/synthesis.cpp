@@ -62,7 +62,8 @@ std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
 SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector<GraphVote>& votes,
                                   const PartGeometry& geometry, const cv::Mat& photo,
                                   const TextureLossTarget& target, const PartFitOptions& fit,
-                                  const SynthesisOptions& options) {
+                                  const SynthesisOptions& options,
+                                  const ExemplarBankOptions* bank) {
   std::string why;
   PS_Check(options.IsValid(&why), "invalid SynthesisOptions: " << why);
   const Timer timer;
@@ -76,7 +77,10 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     f.graph = names[i];
     f.category = library.get(names[i]).category();
     for (const GraphVote& v : votes)
-      if (v.graph == f.graph && total > 0) f.vote = v.weight / total;
+      if (v.graph == f.graph) {
+        if (total > 0) f.vote = v.weight / total;
+        f.draw = v.nearestDraw;
+      }
   }
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
@@ -85,6 +89,8 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     o.fineIterations = std::min(o.fineIterations, options.steps / 3);
     o.restarts = 0;
     MaterialGraph graph = library.create(f.graph);
+    if (options.startFromNearestDraw && bank && f.draw > 0 && f.graph != kHomogeneous)
+      graph.setValues(bankDrawValues(graph, *bank, f.draw));
     if (f.graph == kHomogeneous) {
       // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
       // the best of 5 roughness values), then scored by the same loss without steps; nothing to

@@ -100,4 +100,8 @@ struct PipelineResult {
 ///                              first writing the file $PS_PAUSE_MARKER when that is set
 PipelineResult runPipeline(const PipelineOptions& options);
 
+/// The selection-by-synthesis settings a preset uses when PipelineOptions::selection is unset
+/// (fast 2 / 2 / 8, balanced 3 / 3 / 12, paper 5 / 4 / 30: shortlist / categories / steps).
+SynthesisOptions synthesisPreset(const std::string& preset);
+
 }  // namespace ps

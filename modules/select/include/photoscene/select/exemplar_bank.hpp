@@ -136,7 +136,16 @@ struct GraphVote {
   std::string category;
   double weight = 0;  ///< sum of 1 / distance of the neighbours voting for it
   int count = 0;
+  /// The parameter draw of this graph's nearest voting exemplar (bankDrawValues gives its
+  /// values: the paper starts a graph's fit there); -1: unknown (not from ExemplarBank::select).
+  int nearestDraw = -1;
 };
+
+/// The values of a graph's parameter draw `draw` in a bank built with `options`: draw 0 is the
+/// graph's defaults, draw d > 0 MaterialGraph::randomValues with a seed of the bank's seed, the
+/// graph's name and d (what ExemplarBank::build renders).
+std::vector<float> bankDrawValues(const MaterialGraph& graph, const ExemplarBankOptions& options,
+                                  int draw);
 
 struct GraphChoice {
   std::string graph, category;

@@ -6,7 +6,8 @@
 // look; a photographed material is one particular look that a graph may reach only with
 // parameters its random draws rarely visit. So the vote only shortlists: its `shortlist` best
 // graphs, plus the best-voted graph of each further category until `categories` categories are in,
-// plus the homogeneous material. Each finalist gets a short fit (optim's fitPart with `steps` Adam
+// plus the homogeneous material. Each finalist gets a short fit, from the parameters of its nearest
+// exemplar in the vote (as the paper initialises its fit) (optim's fitPart with `steps` Adam
 // steps, its UV search and spectral prior included: the same render layer, incident light, Eq. 1
 // warp and loss as the real fit) and the finalist with the lowest loss wins.
 //
@@ -38,12 +39,17 @@ struct SynthesisOptions {
   int voteK = 60;           ///< neighbours in the vote that lists the finalists (a longer list)
   bool homogeneous = true;  ///< the homogeneous material is a finalist (model selection)
   double textureMargin = 0.05;  ///< a graph must beat the homogeneous loss by this fraction
+  /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
+  /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
+  /// the bank's options (chooseBySynthesis's `bank`).
+  bool startFromNearestDraw = true;
   bool IsValid(std::string* error) const;
 };
 
 struct SynthesisFinalist {
   std::string graph, category;
   double vote = 0;     ///< share of the kNN vote (0: added for its category or as homogeneous)
+  int draw = -1;       ///< the bank draw its fit started from (GraphVote::nearestDraw; <= 0: defaults)
   double loss = 0;     ///< fit loss after the short fit
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the pipeline's fit starts afresh)
@@ -65,9 +71,12 @@ std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
 /// @param votes  the kNN vote, largest weight first (GraphChoice::votes)
 /// @param geometry, photo, target as ps::fitPart
 /// @param fit    the real fit's options (its maxIterations is replaced by options.steps)
+/// @param bank   the options of the bank that voted (its draws' values); nullptr: every finalist
+///               starts from its defaults
 SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector<GraphVote>& votes,
                                   const PartGeometry& geometry, const cv::Mat& photo,
                                   const TextureLossTarget& target, const PartFitOptions& fit,
-                                  const SynthesisOptions& options = {});
+                                  const SynthesisOptions& options = {},
+                                  const ExemplarBankOptions* bank = nullptr);
 
 }  // namespace ps
