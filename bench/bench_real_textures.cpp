@@ -976,7 +976,7 @@ int main(int argc, char** argv) {
   // selection by synthesis (select/synthesis.hpp), for the accuracy-against-time sweep: any of
   // these replaces the preset's settings by the preset's own (synthesisPreset) plus the ones given
   SynthesisOptions synthesis;
-  int startDraw = 1;
+  int startDraw = 1, warmFit = 1;
   app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
   app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
   app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
@@ -984,6 +984,8 @@ int main(int argc, char** argv) {
   app.add_option("--select-margin", synthesis.textureMargin, "a graph beats homogeneous by this");
   app.add_option("--select-start-draw", startDraw,
                  "1: finalists start from their nearest draw, 0: from their defaults");
+  app.add_option("--select-warm-fit", warmFit,
+                 "1: the fit goes on from the synthesis winner, 0: starts from the defaults");
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
   app.add_option("--spp", o.spp,
@@ -1004,7 +1006,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   o.lightings = splitList(lightingsArg);
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
-                           "--select-vote-k", "--select-margin", "--select-start-draw"})
+                           "--select-vote-k", "--select-margin", "--select-start-draw",
+                           "--select-warm-fit"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1013,6 +1016,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-vote-k")) s.voteK = synthesis.voteK;
       if (app.count("--select-margin")) s.textureMargin = synthesis.textureMargin;
       s.startFromNearestDraw = startDraw != 0;
+      s.warmStartFit = warmFit != 0;
       o.selection = s;
     }
 

@@ -85,6 +85,10 @@ struct PartWork {
     double vote = 0, loss = 0, seconds = 0;
   };
   std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first
+  /// where the fit starts: the synthesis winner's short fit (values in MaterialGraph::values()
+  /// layout, UV); empty values: the graph's defaults and the identity UV
+  std::vector<float> startValues;
+  UvParams startUv;
   // fit
   std::vector<float> values;
   UvParams uv;

@@ -115,7 +115,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.voteK)
           .add(s.homogeneous)
           .add(s.textureMargin)
-          .add(s.startFromNearestDraw);
+          .add(s.startFromNearestDraw)
+          .add(s.warmStartFit);
     } else {
       h.add(0);
     }

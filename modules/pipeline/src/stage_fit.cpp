@@ -18,8 +18,9 @@ namespace {
 // at 40 steps, `fast` at 30; 5 = the placement term (Eq. 9's pixel term) in `balanced`; 6 = the
 // photo divided by its view's exposure (parts fitted in a view other than view 0); 7 = the
 // roughness prior, highlight term, albedo ceiling and roughness line search
-// (optim/roughness_prior.hpp).
-constexpr uint64_t kFitVersion = 7;
+// (optim/roughness_prior.hpp); 8 = the start: the synthesis winner's short fit (select's
+// PartWork::startValues, startUv) instead of the graph's defaults.
+constexpr uint64_t kFitVersion = 8;
 
 class FitStage : public Stage {
  public:
@@ -66,7 +67,15 @@ class FitStage : public Stage {
       // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
       o.onProgress = [](const PartFitProgress&) { return !interruptRequested(); };
       const TextureLossTarget target(photo, mask);
-      const PartFitResult r = fitPart(in.library().get(p.graph), geo, photo, target, o);
+      // from the synthesis winner's short fit when select left one (same graph), else from the
+      // graph's defaults
+      MaterialGraph graph = in.library().create(p.graph);
+      UvParams startUv;
+      if (!p.startValues.empty() && p.startValues.size() == graph.values().size()) {
+        graph.setValues(p.startValues);
+        startUv = p.startUv;
+      }
+      const PartFitResult r = fitPart(graph, geo, photo, target, o, startUv);
       if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
       if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
         // photo over the fitted mask | the fit's render, for looking at what the fit did

@@ -20,10 +20,12 @@ class SelectStage : public Stage {
     decl.options = {"library", "work_width", "preset", "selection"};
     decl.after = {"parts", "geometry", "align", "observe", "incident0"};
     decl.writes = {"PartWork::graph",      "PartWork::category",  "PartWork::runnersUp",
-                   "PartWork::candidates", "PartWork::finalists", "PartMode::Homogeneous"};
+                   "PartWork::candidates", "PartWork::finalists", "PartWork::startValues",
+                   "PartWork::startUv",    "PartMode::Homogeneous"};
     // 2: the cached entry holds the vote's top 5 (materials fit.candidates); 3: selection by
-    // synthesis (fit.finalists); 4: finalists start from their nearest draw
-    decl.version = 4;
+    // synthesis (fit.finalists); 4: finalists start from their nearest draw; 5: the winner's
+    // short fit is where the fit starts (PartWork::startValues, startUv)
+    decl.version = 5;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -37,6 +39,8 @@ class SelectStage : public Stage {
     p.runnersUp.clear();
     p.candidates.clear();
     p.finalists.clear();
+    p.startValues.clear();
+    p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
     } else if (cv::countNonZero(view.photoMask.at(p.id)) <
@@ -75,8 +79,15 @@ class SelectStage : public Stage {
               chooseBySynthesis(in.library(), c.votes, geo, part, TextureLossTarget(part, fit), o,
                                 synthesis, &bank_->options());
           if (!s.graph.empty()) p.graph = s.graph;
-          for (const SynthesisFinalist& f : s.finalists)
+          for (const SynthesisFinalist& f : s.finalists) {
             p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds});
+            // the fit goes on from the winner's short fit instead of starting over
+            if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
+                p.startValues.empty()) {
+              p.startValues = f.fit.values;
+              p.startUv = f.fit.uv;
+            }
+          }
           spdlog::info("select {}: {} of {} finalists by synthesis ({:.1f} s)", p.name, p.graph,
                        s.finalists.size(), s.seconds);
         }
@@ -112,6 +123,10 @@ class SelectStage : public Stage {
       a.putString(f.category);
       for (double x : {f.vote, f.loss, f.seconds}) a.put(x);
     }
+    a.putVector(p.startValues);
+    for (float f : {p.startUv.rotation, p.startUv.logScale, p.startUv.offset.x(),
+                    p.startUv.offset.y()})
+      a.put(f);
   }
   bool load(Context& ctx, const Reads&, int u, Archive& a) override {
     PartWork& p = ctx.parts[u];
@@ -135,6 +150,11 @@ class SelectStage : public Stage {
       f.loss = a.get<double>();
       f.seconds = a.get<double>();
     }
+    p.startValues = a.getVector<float>();
+    p.startUv.rotation = a.get<float>();
+    p.startUv.logScale = a.get<float>();
+    p.startUv.offset.x() = a.get<float>();
+    p.startUv.offset.y() = a.get<float>();
     if (p.category == "homogeneous") p.mode = PartMode::Homogeneous;
     return true;
   }

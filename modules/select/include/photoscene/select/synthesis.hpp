@@ -43,6 +43,9 @@ struct SynthesisOptions {
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`).
   bool startFromNearestDraw = true;
+  /// The pipeline's fit goes on from the winner's short fit (its values and UV) instead of
+  /// starting over from the graph's defaults.
+  bool warmStartFit = true;
   bool IsValid(std::string* error) const;
 };
 
@@ -52,7 +55,7 @@ struct SynthesisFinalist {
   int draw = -1;       ///< the bank draw its fit started from (GraphVote::nearestDraw; <= 0: defaults)
   double loss = 0;     ///< fit loss after the short fit
   double seconds = 0;  ///< of the short fit
-  PartFitResult fit;   ///< the short fit (values, UV, roughness; the pipeline's fit starts afresh)
+  PartFitResult fit;   ///< the short fit (values, UV, roughness; the pipeline's fit starts there)
 };
 
 struct SynthesisChoice {
