@@ -23,10 +23,33 @@ std::vector<float> roughnessGrid(int n) {
   return r;
 }
 
+std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& options) {
+  if (options.roughnessPriorWeight <= 0 && options.highlightWeight <= 0) return std::nullopt;
+  HomogeneousRoughness r;
+  r.prior = roughnessPriorFor("");
+  r.priorWeight = options.roughnessPriorWeight;
+  r.highlightWeight = options.highlightWeight;
+  r.highlight = options.highlight;
+  return r;
+}
+
 HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
-                              const std::vector<float>& roughnesses) {
+                              const std::vector<float>& grid, const HomogeneousRoughness* rough) {
+  std::vector<float> roughnesses = grid;
+  std::vector<cv::Point> highlight;
+  if (rough) {
+    highlight = highlightRegion(geo, rough->highlight);
+    if (highlight.empty()) {
+      roughnesses = {std::clamp(rough->prior.center(), rough->prior.min, rough->prior.max)};
+    } else {
+      for (float& r : roughnesses) r = std::clamp(r, rough->prior.min, rough->prior.max);
+      std::sort(roughnesses.begin(), roughnesses.end());
+      roughnesses.erase(std::unique(roughnesses.begin(), roughnesses.end()), roughnesses.end());
+    }
+  }
   HomogeneousFit best;
   best.loss = std::numeric_limits<double>::infinity();
+  double bestScore = std::numeric_limits<double>::infinity();
   cv::Scalar photoMean(0, 0, 0);
   for (const cv::Point& q : geo.pixels) {
     const cv::Vec3f c = photo.at<cv::Vec3f>(q);
@@ -61,7 +84,18 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
     albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
     const cv::Mat render = i0 + d.mul(cv::Scalar(albedo.x(), albedo.y(), albedo.z()));
     const double loss = statLoss(photo, render, geo.pixels, nullptr);
-    if (loss < best.loss) best = {albedo, r, loss, over > 1.0f, over};
+    // with the roughness terms, the highlight and the prior alone rank the candidates: the
+    // statistics of a flat material's render fall with its roughness whatever the photo shows
+    // (a matte floor, truth 0.75: statLoss 0.09 at 0.15 rising to 0.24 at 0.95)
+    const double score =
+        rough && !highlight.empty()
+            ? rough->highlightWeight * highlightLoss(photo, render, geo.pixels, highlight, nullptr) +
+                  rough->priorWeight * roughnessPriorLoss(rough->prior, r, nullptr)
+            : loss;
+    if (score < bestScore) {
+      bestScore = score;
+      best = {albedo, r, loss, over > 1.0f, over};
+    }
   }
   if (best.albedoClamped)
     spdlog::warn(

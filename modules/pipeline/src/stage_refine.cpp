@@ -24,7 +24,9 @@ class RefineStage : public Stage {
         "PartWork: albedoScale, albedoOffset, roughnessFactor, refineLoss; homogeneous albedo, "
         "roughness"};
     decl.parallel = true;
-    decl.version = 2;  // 2: the photo divided by its view's exposure
+    // 2: the photo divided by its view's exposure; 3: a homogeneous part's roughness from highlights
+    // only, else the prior's centre (HomogeneousRoughness)
+    decl.version = 3;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -42,7 +44,9 @@ class RefineStage : public Stage {
     const int candidates = in.budget().refineCandidates;
     if (p.mode == PartMode::Homogeneous) {
       // the albedo (per channel, closed form) and roughness again under the new lights
-      const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(candidates));
+      const auto rough = homogeneousRoughness(in.fitOptions());
+      const HomogeneousFit f =
+          fitHomogeneous(geo, photo, roughnessGrid(candidates), rough ? &*rough : nullptr);
       p.albedo = f.albedo;
       p.roughness = f.roughness;
       p.refineLoss = f.loss;

@@ -95,7 +95,9 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
       // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
       // the best of 5 roughness values), then scored by the same loss without steps; nothing to
       // place: no UV search, no spectral prior
-      const HomogeneousFit h = fitHomogeneous(geometry, photo, roughnessGrid(5));
+      const auto rough = homogeneousRoughness(fit);
+      const HomogeneousFit h =
+          fitHomogeneous(geometry, photo, roughnessGrid(5), rough ? &*rough : nullptr);
       graph.setParameter("albedo", {h.albedo.x(), h.albedo.y(), h.albedo.z()});
       graph.setParameter("roughness", {h.roughness});
       o.maxIterations = 0;

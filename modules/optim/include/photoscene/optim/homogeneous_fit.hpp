@@ -11,11 +11,13 @@
 //   const ps::HomogeneousFit f = ps::fitHomogeneous(geo, photo, ps::roughnessGrid(7));
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "photoscene/core/math.hpp"
+#include "photoscene/optim/roughness_prior.hpp"
 #include "photoscene/render.hpp"
 
 namespace ps {
@@ -33,12 +35,37 @@ struct HomogeneousFit {
 /// `n` roughness values evenly spaced over [0.15, 0.95] (0.15 alone for n = 1).
 std::vector<float> roughnessGrid(int n);
 
+/// How the homogeneous fit picks the roughness (issue 17, item 5). A flat material's photo says
+/// something of its roughness only where the incident light predicts a highlight
+/// (ps::highlightRegion); elsewhere the statistics loss moves with the roughness by noise alone
+/// (measured on the yardstick's check half: 0.15 on a fabric floor whose truth is 0.82, 0.95 on a
+/// concrete wall whose truth is 0.60). So:
+///   - no highlight predicted: the roughness is the prior's centre, only the albedo is fitted;
+///   - a highlight predicted: each candidate (clamped to the prior's range) is scored by
+///     highlightWeight * L_hl + priorWeight * L_prior (fitPart's terms) without statLoss, whose
+///     value falls with the roughness of a flat render whatever the photo shows (a matte floor,
+///     truth 0.75: 0.09 at 0.15, 0.24 at 0.95): a visible highlight makes the part glossy, none
+///     leaves it near the prior's centre.
+struct HomogeneousRoughness {
+  RoughnessPrior prior;  ///< roughnessPriorFor(category); the default: the generic prior
+  float priorWeight = 0.01f;
+  float highlightWeight = 0.1f;
+  HighlightOptions highlight;
+};
+
+struct PartFitOptions;
+/// The fit options' roughness terms for a homogeneous part (the generic prior, their weights);
+/// nullptr-equivalent (std::nullopt) when the options weigh neither term (roughness by statLoss).
+std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& options);
+
 /// The homogeneous material that best explains the photo over the part's pixels: per roughness
 /// candidate, the albedo whose render matches the photo's mean per channel (clamped to [0, 1]);
-/// the candidate with the lowest statLoss wins.
+/// the candidate with the lowest statLoss wins (with `roughness`: as HomogeneousRoughness says).
+/// HomogeneousFit::loss is the chosen candidate's statLoss.
 /// @param photo CV_32FC3 linear RGB in the render frame (the part's photo warped by Eq. 1)
 HomogeneousFit fitHomogeneous(const PartGeometry& geometry, const cv::Mat& photo,
-                              const std::vector<float>& roughnesses);
+                              const std::vector<float>& roughnesses,
+                              const HomogeneousRoughness* roughness = nullptr);
 
 /// The second round for a textured part (the maps keep their pattern).
 struct TexturedRefine {
