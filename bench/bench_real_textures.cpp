@@ -976,7 +976,8 @@ int main(int argc, char** argv) {
   // selection by synthesis (select/synthesis.hpp), for the accuracy-against-time sweep: any of
   // these replaces the preset's settings by the preset's own (synthesisPreset) plus the ones given
   SynthesisOptions synthesis;
-  int startDraw = 1, warmFit = 1;
+  int startDraw = SynthesisOptions{}.startFromNearestDraw,
+      warmFit = SynthesisOptions{}.warmStartFit;
   app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
   app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
   app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
