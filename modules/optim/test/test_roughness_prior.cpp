@@ -186,6 +186,26 @@ Room highlightRoom(int W, int H) {
   return room;
 }
 
+/// The room's floor path-traced under `mats` (spp, seed) and its part geometry (incident grid
+/// with `gridSamples` samples per bin).
+struct FloorPhoto {
+  cv::Mat photo;
+  PartGeometry geo;
+};
+FloorPhoto floorPhoto(const Room& room, const std::vector<PartMaterial>& mats, int spp,
+                      uint64_t seed, int gridSamples) {
+  const PathTracer tracer(room.scene, mats);
+  RenderOptions ro;
+  ro.spp = spp;
+  ro.seed = seed;
+  FloorPhoto f;
+  f.photo = tracer.render(room.camera, ro);
+  const testroom::View view = prepareView(tracer, room.camera, 8, gridSamples, 9);
+  f.geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(), view.grid,
+                              view.gbuffer.mask[room.floor], room.floor);
+  return f;
+}
+
 TEST(Optim_RoughnessPrior,
      highlight_term_roughness_gradient_through_the_render_layer_matches_finite_differences) {
   Room room = highlightRoom(64, 48);
@@ -193,14 +213,9 @@ TEST(Optim_RoughnessPrior,
                                     lambert("ceiling", 0.8f), lambert("box", 0.6f)};
   mats[room.floor].roughness = 0.15f;
   mats[room.floor].specular = 0.5f;
-  const PathTracer tracer(room.scene, mats);
-  RenderOptions ro;
-  ro.spp = 16;
-  const cv::Mat photo = tracer.render(room.camera, ro);
-  const testroom::View view = prepareView(tracer, room.camera, 8, 2, 9);
-  const int part = room.floor;
-  const PartGeometry geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(),
-                                               view.grid, view.gbuffer.mask[part], part);
+  const FloorPhoto fp = floorPhoto(room, mats, 16, 0, 2);
+  const cv::Mat& photo = fp.photo;
+  const PartGeometry& geo = fp.geo;
   const std::vector<cv::Point> hl = highlightRegion(geo);
   ASSERT_GT(hl.size(), 0u) << "the light should predict a highlight on the floor";
   const RoughnessPrior prior = roughnessPriorFor("wood");
@@ -314,15 +329,9 @@ float homogeneousRoughnessOf(float truth, bool highlightLight, int* highlightPix
   mats[room.floor].albedo = Vec3f(0.45f, 0.35f, 0.25f);
   mats[room.floor].roughness = truth;
   mats[room.floor].specular = 0.5f;
-  const PathTracer tracer(room.scene, mats);
-  RenderOptions ro;
-  ro.spp = 64;
-  ro.seed = 7;
-  const cv::Mat photo = tracer.render(room.camera, ro);
-  const testroom::View view = prepareView(tracer, room.camera, 8, 4, 9);
-  const int part = room.floor;
-  const PartGeometry geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(),
-                                               view.grid, view.gbuffer.mask[part], part);
+  const FloorPhoto fp = floorPhoto(room, mats, 64, 7, 4);
+  const cv::Mat& photo = fp.photo;
+  const PartGeometry& geo = fp.geo;
   const HomogeneousRoughness rough = *homogeneousRoughness(PartFitOptions::preset("fast"));
   *highlightPixels = static_cast<int>(highlightRegion(geo, rough.highlight).size());
   const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(7), &rough);

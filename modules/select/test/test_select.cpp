@@ -97,6 +97,19 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
   EXPECT_EQ(ExemplarBank::load(file, library().contentHash(), small).rows(), 0);
 }
 
+/// A small exhaustive bank: `draws` per graph at 2 and 3 repeats, `observed` observed renderings
+/// per draw, patches of `size` pixels from maps of 64.
+ExemplarBankOptions smallBank(int draws, int observed, int size) {
+  ExemplarBankOptions o;
+  o.drawsPerGraph = draws;
+  o.uvScales = {2.0f, 3.0f};
+  o.observedPerDraw = observed;
+  o.renderSize = size;
+  o.mapSize = 64;
+  o.indexType = KnnIndexType::Linear;
+  return o;
+}
+
 // The vote names each graph's nearest draw, and bankDrawValues gives that draw's values: a query
 // rendered from one draw of a graph finds that draw again (the finalists' fits start there).
 TEST(Select_Bank, the_vote_names_the_nearest_draw_and_its_values_reproduce_it) {
@@ -107,13 +120,7 @@ TEST(Select_Bank, the_vote_names_the_nearest_draw_and_its_values_reproduce_it) {
     std::filesystem::copy_file(std::filesystem::path(GraphLibrary::defaultFolder()) / (n + ".json"),
                                dir.path() / (n + ".json"));
   const GraphLibrary lib = GraphLibrary::load(dir.path().string());
-  ExemplarBankOptions small;
-  small.drawsPerGraph = 5;
-  small.uvScales = {2.0f, 3.0f};
-  small.observedPerDraw = 0;
-  small.renderSize = 64;
-  small.mapSize = 64;
-  small.indexType = KnnIndexType::Linear;
+  const ExemplarBankOptions small = smallBank(5, 0, 64);
   const ExemplarBank b = ExemplarBank::build(lib, small);
   const cv::Mat mask(64, 64, CV_8UC1, cv::Scalar(255));
   int found = 0, asked = 0;
@@ -150,13 +157,7 @@ TEST(Select_Bank, distinct_draws_vote_once_through_their_nearest_rendering) {
   // 2 canonical scales + 1 observed rendering per draw: with distinctDraws, the k neighbours are
   // k different (graph, draw) pairs, each its nearest rendering, nearest first; the nearest
   // neighbour is the same as without it
-  ExemplarBankOptions small;
-  small.drawsPerGraph = 2;
-  small.uvScales = {2.0f, 3.0f};
-  small.observedPerDraw = 1;
-  small.renderSize = 48;
-  small.mapSize = 64;
-  small.indexType = KnnIndexType::Linear;
+  const ExemplarBankOptions small = smallBank(2, 1, 48);
   const ExemplarBank b = ExemplarBank::build(library(), small);
   EXPECT_EQ(b.maxRenderingsPerDraw(), 3);
   MaterialGraph g = library().create(library().names()[3]);
