@@ -34,7 +34,8 @@ std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& o
 }
 
 HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
-                              const std::vector<float>& grid, const HomogeneousRoughness* rough) {
+                              const std::vector<float>& grid,
+                              const std::optional<HomogeneousRoughness>& rough) {
   std::vector<float> roughnesses = grid;
   std::vector<cv::Point> highlight;
   if (rough) {

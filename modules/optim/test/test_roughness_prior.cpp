@@ -322,7 +322,8 @@ TEST(Optim_RoughnessPrior, matte_truth_is_not_fitted_glossy) {
 // A homogeneous floor under a light that predicts a highlight on it: its roughness follows the
 // highlight (glossy 0.1, matte 0.75); without a predicted highlight the photo says nothing of the
 // roughness and the prior's centre is kept (by statLoss alone it ran to the grid's ends).
-float homogeneousRoughnessOf(float truth, bool highlightLight, int* highlightPixels) {
+float homogeneousRoughnessOf(float truth, bool highlightLight, int* highlightPixels,
+                             float highlightMinRatio = HighlightOptions{}.minRatio) {
   Room room = highlightLight ? highlightRoom(96, 72) : makeRoom(96, 72);
   std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f),
                                     lambert("ceiling", 0.8f), lambert("box", 0.6f)};
@@ -332,12 +333,13 @@ float homogeneousRoughnessOf(float truth, bool highlightLight, int* highlightPix
   const FloorPhoto fp = floorPhoto(room, mats, 64, 7, 4);
   const cv::Mat& photo = fp.photo;
   const PartGeometry& geo = fp.geo;
-  const HomogeneousRoughness rough = *homogeneousRoughness(PartFitOptions::preset("fast"));
+  HomogeneousRoughness rough = *homogeneousRoughness(PartFitOptions::preset("fast"));
+  rough.highlight.minRatio = highlightMinRatio;
   *highlightPixels = static_cast<int>(highlightRegion(geo, rough.highlight).size());
-  const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(7), &rough);
+  const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(7), rough);
   const HomogeneousFit plain = fitHomogeneous(geo, photo, roughnessGrid(7));
   std::printf("truth %.2f (%s): roughness %.3f, by statLoss alone %.3f; albedo %.3f %.3f %.3f\n",
-              truth, highlightLight ? "highlight predicted" : "no highlight", f.roughness,
+              truth, *highlightPixels > 0 ? "highlight predicted" : "no highlight", f.roughness,
               plain.roughness, f.albedo.x(), f.albedo.y(), f.albedo.z());
   EXPECT_TRUE(std::isfinite(f.loss));
   EXPECT_TRUE(f.albedo.allFinite());
@@ -357,6 +359,10 @@ TEST(Optim_RoughnessPrior, homogeneous_roughness_follows_a_predicted_highlight_e
   } else {
     EXPECT_GE(other, 0.4f);  // this room's light predicts a highlight too: it decides (0.55)
   }
+  // no highlight predicted (a region threshold no pixel reaches): the glossy floor's photo says
+  // nothing the rule reads, and the prior's centre is kept
+  EXPECT_FLOAT_EQ(homogeneousRoughnessOf(0.1f, true, &hl, 1e9f), roughnessPriorFor("").center());
+  EXPECT_EQ(hl, 0);
 }
 
 }  // namespace
@@ -390,7 +396,7 @@ TEST(Optim_RoughnessPrior, homogeneous_fit_flags_a_clamped_albedo_and_stays_fini
   // with the roughness terms too (black and saturated photos)
   const HomogeneousRoughness rough = *homogeneousRoughness(PartFitOptions::preset("fast"));
   for (const cv::Mat* photo : {&hot, &black}) {
-    const HomogeneousFit r = fitHomogeneous(geo, *photo, roughnessGrid(5), &rough);
+    const HomogeneousFit r = fitHomogeneous(geo, *photo, roughnessGrid(5), rough);
     EXPECT_TRUE(std::isfinite(r.loss));
     EXPECT_TRUE(r.albedo.allFinite());
     EXPECT_TRUE(std::isfinite(r.roughness));

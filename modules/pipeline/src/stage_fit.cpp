@@ -18,8 +18,9 @@ namespace {
 // at 40 steps, `fast` at 30; 5 = the placement term (Eq. 9's pixel term) in `balanced`; 6 = the
 // photo divided by its view's exposure (parts fitted in a view other than view 0); 7 = the
 // roughness prior, highlight term, albedo ceiling and roughness line search
-// (optim/roughness_prior.hpp); 8 = the start: the synthesis winner's short fit (select's
-// PartWork::startValues, startUv) instead of the graph's defaults; 9 = a homogeneous part's
+// (optim/roughness_prior.hpp); 8 = the start: the synthesis winner's short fit when select
+// leaves one (SynthesisOptions::warmStartFit; PartWork::startValues, startUv), else the graph's
+// defaults; 9 = a homogeneous part's
 // roughness from highlights only, else the prior's centre (HomogeneousRoughness).
 constexpr uint64_t kFitVersion = 9;
 
@@ -52,9 +53,8 @@ class FitStage : public Stage {
     const PartGeometry geo = preparePartGeometry(
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
     if (p.mode == PartMode::Homogeneous || geo.size() < 16) {
-      const auto rough = homogeneousRoughness(in.fitOptions());
       const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(in.budget().refineCandidates),
-                                              rough ? &*rough : nullptr);
+                                              homogeneousRoughness(in.fitOptions()));
       p.mode = PartMode::Homogeneous;
       p.graph = p.category = "homogeneous";
       p.albedo = f.albedo;

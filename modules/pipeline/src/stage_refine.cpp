@@ -44,9 +44,8 @@ class RefineStage : public Stage {
     const int candidates = in.budget().refineCandidates;
     if (p.mode == PartMode::Homogeneous) {
       // the albedo (per channel, closed form) and roughness again under the new lights
-      const auto rough = homogeneousRoughness(in.fitOptions());
-      const HomogeneousFit f =
-          fitHomogeneous(geo, photo, roughnessGrid(candidates), rough ? &*rough : nullptr);
+      const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(candidates),
+                                              homogeneousRoughness(in.fitOptions()));
       p.albedo = f.albedo;
       p.roughness = f.roughness;
       p.refineLoss = f.loss;

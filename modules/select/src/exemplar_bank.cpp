@@ -34,6 +34,11 @@ uint64_t nameHash(const std::string& s) {
   return Hasher().add(std::string_view(s)).digest();
 }
 
+/// The seed of draw `draw` of graph `name` (its values, its renderings' rotations and noise).
+uint64_t drawSeed(const ExemplarBankOptions& options, const std::string& name, int draw) {
+  return mix64(options.seed ^ nameHash(name)) + static_cast<uint64_t>(draw);
+}
+
 /// Bilinear, periodic sample of a CV_32FC3 map at texture coordinate t (row 0 = top).
 cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
   const int n = map.cols, m = map.rows;
@@ -261,8 +266,7 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   parallelFor(0, graphs, [&](int64_t g) {
     MaterialGraph graph = library.create(bank.graphNames_[g]);
     for (int d = 0; d < options.drawsPerGraph; ++d) {
-      const uint64_t seed =
-          mix64(options.seed ^ nameHash(bank.graphNames_[g])) + static_cast<uint64_t>(d);
+      const uint64_t seed = drawSeed(options, bank.graphNames_[g], d);
       graph.setValues(bankDrawValues(graph, options, d));
       const MaterialMaps maps =
           graph.evaluate(options.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
@@ -307,8 +311,7 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
 std::vector<float> bankDrawValues(const MaterialGraph& graph, const ExemplarBankOptions& options,
                                   int draw) {
   if (draw <= 0) return graph.defaultValues();
-  const uint64_t seed = mix64(options.seed ^ nameHash(graph.name())) + static_cast<uint64_t>(draw);
-  return graph.randomValues(seed, options.spread);
+  return graph.randomValues(drawSeed(options, graph.name(), draw), options.spread);
 }
 
 void ExemplarBank::rebuildIndex(KnnIndexType type) {

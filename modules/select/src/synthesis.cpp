@@ -93,11 +93,10 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
       graph.setValues(bankDrawValues(graph, *bank, f.draw));
     if (f.graph == kHomogeneous) {
       // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
-      // the best of 5 roughness values), then scored by the same loss without steps; nothing to
-      // place: no UV search, no spectral prior
-      const auto rough = homogeneousRoughness(fit);
+      // the roughness as the fit's roughness terms say, HomogeneousRoughness), then scored by the
+      // same loss without steps; nothing to place: no UV search, no spectral prior
       const HomogeneousFit h =
-          fitHomogeneous(geometry, photo, roughnessGrid(5), rough ? &*rough : nullptr);
+          fitHomogeneous(geometry, photo, roughnessGrid(5), homogeneousRoughness(fit));
       graph.setParameter("albedo", {h.albedo.x(), h.albedo.y(), h.albedo.z()});
       graph.setParameter("roughness", {h.roughness});
       o.maxIterations = 0;

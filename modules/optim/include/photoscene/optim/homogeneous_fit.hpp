@@ -55,7 +55,7 @@ struct HomogeneousRoughness {
 
 struct PartFitOptions;
 /// The fit options' roughness terms for a homogeneous part (the generic prior, their weights);
-/// nullptr-equivalent (std::nullopt) when the options weigh neither term (roughness by statLoss).
+/// std::nullopt when the options weigh neither term (roughness by statLoss).
 std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& options);
 
 /// The homogeneous material that best explains the photo over the part's pixels: per roughness
@@ -65,7 +65,7 @@ std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& o
 /// @param photo CV_32FC3 linear RGB in the render frame (the part's photo warped by Eq. 1)
 HomogeneousFit fitHomogeneous(const PartGeometry& geometry, const cv::Mat& photo,
                               const std::vector<float>& roughnesses,
-                              const HomogeneousRoughness* roughness = nullptr);
+                              const std::optional<HomogeneousRoughness>& roughness = std::nullopt);
 
 /// The second round for a textured part (the maps keep their pattern).
 struct TexturedRefine {

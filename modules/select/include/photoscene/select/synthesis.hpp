@@ -6,10 +6,10 @@
 // look; a photographed material is one particular look that a graph may reach only with
 // parameters its random draws rarely visit. So the vote only shortlists: its `shortlist` best
 // graphs, plus the best-voted graph of each further category until `categories` categories are in,
-// plus the homogeneous material. Each finalist gets a short fit (optionally from the parameters of
-// its nearest exemplar in the vote, as the paper initialises its fit) (optim's fitPart with `steps` Adam
+// plus the homogeneous material. Each finalist gets a short fit (optim's fitPart with `steps` Adam
 // steps, its UV search and spectral prior included: the same render layer, incident light, Eq. 1
-// warp and loss as the real fit) and the finalist with the lowest loss wins.
+// warp and loss as the real fit; optionally from the parameters of its nearest exemplar in the
+// vote, as the paper initialises its fit) and the finalist with the lowest loss wins.
 //
 // Texture only where the photo shows one (model selection): the homogeneous material has 4 free
 // values, a graph a dozen or more, so a graph must lower the loss below the homogeneous one's by
@@ -55,7 +55,8 @@ struct SynthesisOptions {
 struct SynthesisFinalist {
   std::string graph, category;
   double vote = 0;     ///< share of the kNN vote (0: added for its category or as homogeneous)
-  int draw = -1;       ///< the bank draw its fit started from (GraphVote::nearestDraw; <= 0: defaults)
+  int draw = -1;       ///< its nearest draw in the vote (GraphVote::nearestDraw); the short fit
+                       ///< starts there with startFromNearestDraw (<= 0: the defaults)
   double loss = 0;     ///< fit loss after the short fit
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
