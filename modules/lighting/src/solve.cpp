@@ -1,6 +1,7 @@
 #include "photoscene/lighting/solve.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -88,31 +89,68 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, int max
 
 namespace {
 
+constexpr double kMinFactor = 1e-3, kMaxFactor = 1e3;  ///< a region's reflectance factor
+
 /// Usable samples of one view: photo values and per-light values, 3 channels each.
 struct Samples {
   std::vector<float> photo;                 // 3 per sample
   std::vector<std::vector<float>> light;    // per light, 3 per sample
+  std::vector<int> region;                  // per sample: ViewLightData::regions (-1: none)
   int count = 0;
 };
+
+/// Usable pixels of one view where one light is seen directly: photo and that light's values.
+struct DirectSamples {
+  std::vector<float> photo, light;  // 3 per sample
+  int count = 0;
+};
+
+bool usablePixel(const ViewLightData& v, int y, int x, double saturation) {
+  const cv::Vec3f& p = v.photo.at<cv::Vec3f>(y, x);
+  bool ok = true;
+  for (int c = 0; c < 3; ++c) ok &= std::isfinite(p[c]) && p[c] < saturation && p[c] >= 0;
+  for (const cv::Mat& l : v.perLight) {
+    const cv::Vec3f& q = l.at<cv::Vec3f>(y, x);
+    for (int c = 0; c < 3; ++c) ok &= std::isfinite(q[c]);
+  }
+  return ok;
+}
+
+/// Per light, the usable pixels of ViewLightData::direct (every one: they are few).
+std::vector<DirectSamples> gatherDirect(const ViewLightData& v, int lights, const SolveOptions& o) {
+  std::vector<DirectSamples> out(lights);
+  if (v.direct.empty()) return out;
+  PS_CheckEQ(static_cast<int>(v.direct.size()), lights,
+             "lighting: ViewLightData::direct needs one mask per light (or none)");
+  for (int k = 0; k < lights; ++k) {
+    const cv::Mat& m = v.direct[k];
+    if (m.empty()) continue;
+    checkImage(m, CV_8UC1, v.photo.size(), "lighting: direct mask");
+    for (int y = 0; y < m.rows; ++y)
+      for (int x = 0; x < m.cols; ++x) {
+        if (!m.at<uint8_t>(y, x) || !usablePixel(v, y, x, o.saturation)) continue;
+        const cv::Vec3f &p = v.photo.at<cv::Vec3f>(y, x), &l = v.perLight[k].at<cv::Vec3f>(y, x);
+        for (int c = 0; c < 3; ++c) {
+          out[k].photo.push_back(p[c]);
+          out[k].light.push_back(l[c]);
+        }
+        ++out[k].count;
+      }
+  }
+  return out;
+}
 
 Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
   checkImage(v.photo, CV_32FC3, "lighting: photo");
   checkImage(v.mask, CV_8UC1, v.photo.size(), "lighting: mask");
   PS_CheckEQ(static_cast<int>(v.perLight.size()), lights, "lighting: every view needs one image per light");
   for (const cv::Mat& l : v.perLight) checkImage(l, CV_32FC3, v.photo.size(), "lighting: per-light render");
+  if (!v.regions.empty()) checkImage(v.regions, CV_32SC1, v.photo.size(), "lighting: regions");
   std::vector<cv::Point> usable;
   for (int y = 0; y < v.photo.rows; ++y) {
-    const cv::Vec3f* p = v.photo.ptr<cv::Vec3f>(y);
     const uint8_t* m = v.mask.ptr<uint8_t>(y);
     for (int x = 0; x < v.photo.cols; ++x) {
-      if (!m[x]) continue;
-      bool ok = true;
-      for (int c = 0; c < 3; ++c) ok &= std::isfinite(p[x][c]) && p[x][c] < o.saturation && p[x][c] >= 0;
-      for (const cv::Mat& l : v.perLight) {
-        const cv::Vec3f& q = l.at<cv::Vec3f>(y, x);
-        for (int c = 0; c < 3; ++c) ok &= std::isfinite(q[c]);
-      }
-      if (ok) usable.emplace_back(x, y);
+      if (m[x] && usablePixel(v, y, x, o.saturation)) usable.emplace_back(x, y);
     }
   }
   const size_t stride = std::max<size_t>(1, (usable.size() + o.maxSamplesPerView - 1) / o.maxSamplesPerView);
@@ -122,6 +160,7 @@ Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
     const cv::Point q = usable[i];
     const cv::Vec3f& p = v.photo.at<cv::Vec3f>(q);
     for (int c = 0; c < 3; ++c) s.photo.push_back(p[c]);
+    s.region.push_back(v.regions.empty() ? -1 : std::max(-1, v.regions.at<int>(q)));
     for (int k = 0; k < lights; ++k) {
       const cv::Vec3f& l = v.perLight[k].at<cv::Vec3f>(q);
       for (int c = 0; c < 3; ++c) s.light[k].push_back(l[c]);
@@ -137,8 +176,9 @@ std::string LightSolution::summary() const {
   std::string s;
   char buf[200];
   for (size_t k = 0; k < intensity.size(); ++k) {
-    std::snprintf(buf, sizeof buf, "light %zu: (%.4g, %.4g, %.4g)%s\n", k, intensity[k].x(), intensity[k].y(),
-                  intensity[k].z(), dropped[k] ? " dropped" : "");
+    std::snprintf(buf, sizeof buf, "light %zu: (%.4g, %.4g, %.4g)%s%s\n", k, intensity[k].x(), intensity[k].y(),
+                  intensity[k].z(), dropped[k] ? " dropped" : "",
+                  k < pinned.size() && pinned[k] ? " (from the pixels that show it)" : "");
     s += buf;
   }
   for (size_t v = 0; v < exposure.size(); ++v) {
@@ -156,9 +196,11 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
   PS_Check(!views.empty(), "solveLights: no views");
   const int lights = static_cast<int>(views[0].perLight.size());
   std::vector<Samples> data;
+  std::vector<std::vector<DirectSamples>> direct;
   int total = 0;
   for (const auto& v : views) {
     data.push_back(gather(v, lights, options));
+    direct.push_back(gatherDirect(v, lights, options));
     total += data.back().count;
   }
   PS_Check(total > 0, "solveLights: no usable pixel in any view (masks empty or photos saturated)");
@@ -168,9 +210,31 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
   sol.exposure.assign(views.size(), 1.0);
   sol.dropped.assign(lights, false);
   sol.samples = total;
+  sol.directPixels.assign(lights, 0);
+  sol.pinned.assign(lights, false);
+  for (int k = 0; k < lights; ++k) {
+    double seen = 0;
+    for (const auto& d : direct) {
+      sol.directPixels[k] += d[k].count;
+      for (float l : d[k].light) seen += double(l) * l;
+    }
+    sol.pinned[k] = options.directMinPixels > 0 && sol.directPixels[k] >= options.directMinPixels &&
+                    seen > 0;
+  }
 
   std::vector<int> active;
   for (int k = 0; k < lights; ++k) active.push_back(k);
+
+  // the regions' reflectance factors (1 where a sample has no region)
+  int regions = 0;
+  for (const Samples& s : data)
+    for (int r : s.region) regions = std::max(regions, r + 1);
+  sol.regionFactor.assign(regions, Vec3d::Ones());
+  std::vector<double> regionWeight(regions, 0.0);
+  for (const Samples& s : data)
+    for (int r : s.region)
+      if (r >= 0) regionWeight[r] += 1;
+  auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
 
   auto residual = [&]() {
     double err = 0, ref = 0;
@@ -180,7 +244,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
         for (int c = 0; c < 3; ++c) {
           double m = 0;
           for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
-          const double d = sol.exposure[v] * m - s.photo[3 * i + c];
+          const double d = sol.exposure[v] * factor(s.region[i], c) * m - s.photo[3 * i + c];
           err += d * d;
           ref += double(s.photo[3 * i + c]) * s.photo[3 * i + c];
         }
@@ -190,24 +254,47 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
   };
 
   for (int round = 0; round <= lights; ++round) {
-    const int n = static_cast<int>(active.size());
     double previous = std::numeric_limits<double>::infinity();
-    const int alternations = (options.perViewExposure && views.size() > 1) ? options.maxAlternations : 1;
+    const int alternations =
+        ((options.perViewExposure && views.size() > 1) || regions > 0) ? options.maxAlternations : 1;
     for (int it = 0; it < alternations; ++it) {
-      // intensities per channel for fixed exposures
+      // intensities per channel for fixed exposures: the pinned lights from the pixels that
+      // show them, then the others by NNLS over the rest of the photo
+      std::vector<int> free;
+      for (int k : active)
+        if (!sol.pinned[k]) free.push_back(k);
       for (int c = 0; c < 3; ++c) {
+        for (int k : active) {
+          if (!sol.pinned[k]) continue;
+          double pl = 0, ll = 0;
+          for (size_t v = 0; v < direct.size(); ++v) {
+            const DirectSamples& d = direct[v][k];
+            for (int i = 0; i < d.count; ++i) {
+              const double l = sol.exposure[v] * d.light[3 * i + c];
+              pl += l * d.photo[3 * i + c];
+              ll += l * l;
+            }
+          }
+          sol.intensity[k][c] = ll > 0 ? std::max(0.0, pl / ll) : 0.0;
+        }
+        const int n = static_cast<int>(free.size());
+        if (n == 0) continue;
         Eigen::MatrixXd A(total, n);
         Eigen::VectorXd b(total);
         int row = 0;
         for (size_t v = 0; v < data.size(); ++v) {
           const Samples& s = data[v];
           for (int i = 0; i < s.count; ++i, ++row) {
-            for (int j = 0; j < n; ++j) A(row, j) = sol.exposure[v] * s.light[active[j]][3 * i + c];
-            b[row] = s.photo[3 * i + c];
+            const double ef = sol.exposure[v] * factor(s.region[i], c);
+            for (int j = 0; j < n; ++j) A(row, j) = ef * s.light[free[j]][3 * i + c];
+            double pinnedPart = 0;
+            for (int k : active)
+              if (sol.pinned[k]) pinnedPart += sol.intensity[k][c] * s.light[k][3 * i + c];
+            b[row] = s.photo[3 * i + c] - ef * pinnedPart;
           }
         }
         const Eigen::VectorXd x = nnls(A, b);
-        for (int j = 0; j < n; ++j) sol.intensity[active[j]][c] = x[j];
+        for (int j = 0; j < n; ++j) sol.intensity[free[j]][c] = x[j];
       }
       // exposures for fixed intensities (view 0 is the reference)
       if (alternations > 1) {
@@ -218,10 +305,43 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
             for (int c = 0; c < 3; ++c) {
               double m = 0;
               for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
+              m *= factor(s.region[i], c);
               pm += m * s.photo[3 * i + c];
               mm += m * m;
             }
           sol.exposure[v] = mm > 0 ? pm / mm : 1.0;
+        }
+      }
+      // the regions' factors for fixed lights and exposures, then the gauge: per channel their
+      // pixel-weighted log-mean is 0 (light and reflectance trade a scale per channel)
+      if (regions > 0) {
+        std::vector<Vec3d> pm(regions, Vec3d::Zero()), mm(regions, Vec3d::Zero());
+        for (size_t v = 0; v < data.size(); ++v) {
+          const Samples& s = data[v];
+          for (int i = 0; i < s.count; ++i) {
+            const int r = s.region[i];
+            if (r < 0) continue;
+            for (int c = 0; c < 3; ++c) {
+              double m = 0;
+              for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
+              m *= sol.exposure[v];
+              pm[r][c] += m * s.photo[3 * i + c];
+              mm[r][c] += m * m;
+            }
+          }
+        }
+        Vec3d logMean = Vec3d::Zero();
+        double weight = 0;
+        for (int r = 0; r < regions; ++r) {
+          if (regionWeight[r] <= 0) continue;
+          for (int c = 0; c < 3; ++c)
+            sol.regionFactor[r][c] = mm[r][c] > 0 ? std::clamp(pm[r][c] / mm[r][c], kMinFactor, kMaxFactor) : 1.0;
+          logMean += regionWeight[r] * sol.regionFactor[r].array().log().matrix();
+          weight += regionWeight[r];
+        }
+        if (weight > 0) {
+          const Vec3d g = (logMean / weight).array().exp().matrix();
+          for (Vec3d& f : sol.regionFactor) f = f.cwiseQuotient(g);
         }
       }
       sol.alternations = it + 1;
@@ -235,7 +355,8 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
     for (const Samples& s : data)
       for (int k : active)
         for (int i = 0; i < s.count; ++i)
-          for (int c = 0; c < 3; ++c) energy[k] += sol.intensity[k][c] * s.light[k][3 * i + c];
+          for (int c = 0; c < 3; ++c)
+            energy[k] += factor(s.region[i], c) * sol.intensity[k][c] * s.light[k][3 * i + c];
     for (int k : active) energyAll += energy[k];
     std::vector<int> keep;
     for (int k : active) {

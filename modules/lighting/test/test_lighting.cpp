@@ -117,6 +117,128 @@ TEST(Lighting_Solve, a_light_that_only_hurts_is_dropped_and_saturated_pixels_ign
   EXPECT_NEAR(s.intensity[0].x(), 10.0, 1.0);
 }
 
+// The environment seen through a window in view 0 (not in view 1), a ceiling light, and surfaces
+// whose photo the model explains only up to an error that grows with the environment's share (a
+// wrong albedo guess where the window lights the room): the window's own pixels pin the
+// environment exactly; without them the solve trades them against the surfaces.
+TEST(Lighting_Solve, a_light_seen_through_a_window_is_pinned_to_those_pixels) {
+  Rng rng(21);
+  const cv::Size size(80, 60);
+  const cv::Rect window(6, 6, 24, 16);
+  const std::vector<Vec3d> truth = {{30, 28, 24}, {0.7, 0.7, 0.7}};
+  const std::vector<double> exposure = {1.0, 1.6};
+  std::vector<ViewLightData> views(2);
+  for (size_t v = 0; v < views.size(); ++v) {
+    ViewLightData& d = views[v];
+    d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+    d.perLight = {smoothField(size, rng, 25), smoothField(size, rng, 30) * 8.0};
+    d.direct = {cv::Mat(), cv::Mat::zeros(size, CV_8UC1)};
+    if (v == 0) {
+      // the landscape through the window: the environment alone, a green and blue image
+      d.perLight[0](window).setTo(cv::Scalar::all(0));
+      for (int y = window.y; y < window.br().y; ++y)
+        for (int x = window.x; x < window.br().x; ++x)
+          d.perLight[1].at<cv::Vec3f>(y, x) =
+              cv::Vec3f(0.2f, 0.5f, 0.3f) * (0.6f + 0.4f * std::sin(0.4f * x + 0.3f * y));
+      d.direct[1](window).setTo(255);
+    }
+    d.photo = cv::Mat::zeros(size, CV_32FC3);
+    cv::Mat share = cv::Mat::zeros(size, CV_32FC3);
+    for (int k = 0; k < 2; ++k) {
+      cv::Mat c;
+      cv::multiply(d.perLight[k], cv::Scalar(truth[k].x(), truth[k].y(), truth[k].z()), c);
+      d.photo += c * exposure[v];
+      if (k == 1) share = c;
+    }
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        if (v == 0 && window.contains(cv::Point(x, y))) continue;
+        // the surfaces: 60 % of the environment's light on them is unexplained
+        d.photo.at<cv::Vec3f>(y, x) += share.at<cv::Vec3f>(y, x) * 0.6f * float(exposure[v]);
+      }
+  }
+  // a pixel the window shows as NaN (a broken photo) is left out, not propagated
+  views[0].photo.at<cv::Vec3f>(window.y + 1, window.x + 1) = cv::Vec3f(NAN, 0, 0);
+
+  const LightSolution s = solveLights(views);
+  ASSERT_TRUE(s.pinned[1]) << s.summary();
+  EXPECT_FALSE(s.pinned[0]);
+  EXPECT_EQ(s.directPixels[1], window.area() - 1);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.intensity[1][c] / truth[1][c], 1.0, 0.01) << s.summary();
+  EXPECT_TRUE(std::isfinite(s.intensity[0].sum()));
+  EXPECT_NEAR(s.exposure[1], 1.6, 0.1) << s.summary();
+
+  // without the pin the window's pixels are traded against the surfaces
+  SolveOptions off;
+  off.directMinPixels = 0;
+  const LightSolution u = solveLights(views, off);
+  EXPECT_FALSE(u.pinned[1]);
+  EXPECT_GT(std::abs(u.intensity[1][1] / truth[1][1] - 1.0), 0.1) << u.summary();
+
+  // a window of a few pixels is too little evidence: not pinned
+  for (ViewLightData& d : views) {
+    if (d.direct[1].empty()) continue;
+    d.direct[1].setTo(0);
+    d.direct[1](cv::Rect(window.x, window.y, 3, 3)).setTo(255);
+  }
+  EXPECT_FALSE(solveLights(views).pinned[1]);
+}
+
+// Three parts whose reflectance the renders guess wrong (true / guess = 0.5, 1, 1.8, tinted), lit
+// by two lights that fall off differently across the image: with a free factor per part the
+// solve reads the lights' ratio from the shading within each part and recovers it, and the
+// factors' ratios between parts; without, it takes the guesses' brightness at face value.
+TEST(Lighting_Solve, free_factors_per_part_recover_the_light_ratio_from_shading_within_parts) {
+  Rng rng(33);
+  const cv::Size size(90, 60);
+  const std::vector<Vec3d> truth = {{20, 18, 15}, {4, 5, 6}};
+  const std::vector<Vec3d> wrong = {{0.5, 0.45, 0.4}, {1, 1, 1}, {1.8, 1.9, 2.0}};
+  ViewLightData d;
+  d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+  d.regions = cv::Mat(size, CV_32SC1);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) d.regions.at<int>(y, x) = x / 30;  // three parts
+  // light 0 bright at the left, light 1 at the right
+  for (int k = 0; k < 2; ++k) {
+    cv::Mat m(size, CV_32FC3);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const float t = float(k == 0 ? x : size.width - 1 - x) / size.width;
+        m.at<cv::Vec3f>(y, x) = cv::Vec3f::all(0.002f / (0.2f + 2.0f * t * t) * (1 + 0.1f * std::sin(0.2f * y)));
+      }
+    d.perLight.push_back(m);
+  }
+  d.photo = cv::Mat::zeros(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const Vec3d& w = wrong[x / 30];
+      for (int c = 0; c < 3; ++c) {
+        double v = 0;
+        for (int k = 0; k < 2; ++k) v += truth[k][c] * d.perLight[k].at<cv::Vec3f>(y, x)[c];
+        d.photo.at<cv::Vec3f>(y, x)[c] = float(w[c] * v * (1 + 0.005 * rng.normal()));
+      }
+    }
+  const LightSolution s = solveLights({d});
+  ASSERT_EQ(s.regionFactor.size(), 3u) << s.summary();
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR((s.intensity[1][c] / s.intensity[0][c]) / (truth[1][c] / truth[0][c]), 1.0, 0.03)
+        << s.summary();
+    for (int r : {0, 2})
+      EXPECT_NEAR((s.regionFactor[r][c] / s.regionFactor[1][c]) / (wrong[r][c] / wrong[1][c]), 1.0,
+                  0.03)
+          << "region " << r << " channel " << c;
+    // the gauge: the pixel-weighted geometric mean of the factors is 1 (equal regions here)
+    EXPECT_NEAR(std::cbrt(s.regionFactor[0][c] * s.regionFactor[1][c] * s.regionFactor[2][c]), 1.0,
+                1e-6);
+  }
+  EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
+  // without the regions the guesses' brightness is taken at face value: the ratio is far off
+  d.regions = cv::Mat();
+  const LightSolution u = solveLights({d});
+  EXPECT_GT(std::abs((u.intensity[1][1] / u.intensity[0][1]) / (truth[1][1] / truth[0][1]) - 1.0), 0.3)
+      << u.summary();
+}
+
 TEST(Lighting_Solve, refuses_empty_input) {
   ViewLightData v;
   v.photo = cv::Mat(4, 4, CV_32FC3, cv::Scalar(1, 1, 1));  // all saturated

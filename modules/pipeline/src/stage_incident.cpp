@@ -23,7 +23,9 @@ class IncidentStage : public Stage {
       decl.options.push_back("library");
       decl.after.insert(decl.after.end(), {"select", "fit", "refine0", "lights1"});
     }
-    decl.version = 2;  // 2: grid points only on the parts fitted in the view
+    // 2: grid points only on the parts fitted in the view; 3: paths from a grid point get one
+    // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp)
+    decl.version = 3;
     decl.writes = {"ViewWork::grid"};
   }
 

@@ -2,7 +2,9 @@
 // (Light::fitsScale), by non-negative least squares over per-light renders (one trace for all
 // lights, PathTracer::renderPerLight; lighting module); round 0 under the neutral materials
 // (on the pixels of the parts of given material alone, where they suffice), round 1 under the
-// fitted ones over every view (per-view exposure with several views). The result is written
+// fitted ones over every view (per-view exposure with several views). A light the photos show
+// directly is pinned to those pixels, and every part whose reflectance is guessed gets a free
+// factor, so the light comes from how shading varies within parts. The result is written
 // into the scene the later path tracers see.
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
@@ -37,8 +39,10 @@ class LightsStage : public Stage {
     }
     decl.writes = {"the free emitters' radiance (Context::applyLights)", "Context::exposure"};
     // 2: float photos (EXR, HDR) are not clipped at 0.99; 3: the photos divided by the
-    // exposures known before the solve; 4: round 0 anchored on the parts of given material
-    decl.version = 4;
+    // exposures known before the solve; 4: round 0 anchored on the parts of given material; 5: a
+    // light the photos show (through a window, or its emitter unsaturated) pinned to those
+    // pixels, and a free reflectance factor per part (lighting/solve.hpp)
+    decl.version = 5;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -96,6 +100,31 @@ class LightsStage : public Stage {
         cv::inRange(photo, cv::Scalar::all(0.99), cv::Scalar::all(1e30), sat);
         d.mask.setTo(0, sat);
         d.photo -= fixed;
+      }
+      // where each free light is seen itself (its emitting parts, the windows that open onto
+      // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
+      // mask, whose pixels it does not replace
+      for (int k : freeLights) {
+        cv::Mat m = cv::Mat::zeros(d.mask.size(), CV_8UC1);
+        std::vector<int> own = lights[k]->emittingParts();
+        for (int id : lights[k]->openingParts()) own.push_back(id);
+        for (int id : own) {
+          const auto it = ctx.views[v].photoMask.find(id);
+          if (it != ctx.views[v].photoMask.end() && it->second.size() == m.size()) m |= it->second;
+        }
+        d.direct.push_back(m & d.mask);
+      }
+      // the parts whose reflectance the renders only guess (round 0: photo median x pin; round
+      // 1: the fit's, made under round 0's lights) each get a free factor in the solve; not for
+      // the pixel-median baseline, whose albedos are those guesses
+      if (in.baseline() != Baseline::PixelMedian) {
+        d.regions = cv::Mat(d.mask.size(), CV_32SC1, cv::Scalar(-1));
+        for (const PartWork& p : ctx.parts) {
+          if (p.mode != PartMode::Fit && p.mode != PartMode::Homogeneous) continue;
+          const auto it = ctx.views[v].photoMask.find(p.id);
+          if (it != ctx.views[v].photoMask.end() && it->second.size() == d.mask.size())
+            d.regions.setTo(p.id, it->second);
+        }
       }
       data.push_back(std::move(d));
     }

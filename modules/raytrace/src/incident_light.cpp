@@ -67,6 +67,16 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
   g.frameB.assign(n, Vec3f::Zero());
   g.frameN.assign(n, Vec3f::Zero());
   const Rng base(o.render.seed ^ 0x1ce1f00dULL);
+  // The grid point's own scattering is the first bounce of the camera path the render layer
+  // stands in for (render() counts it against the limits); a path traced from the point starts
+  // counting at the next surface, so it gets one bounce fewer of each limit (as a diffuse
+  // scatter: the lobe that carries a room's light). With the full limits the grid held one
+  // diffuse bounce more than render() sees, and a fit against it chose albedos that the final
+  // render shows too dark, the more so the brighter the channel (blender-room: walls 7 % dark in
+  // red, 2 % in blue).
+  RenderOptions afterFirst = o.render;
+  afterFirst.maxBounces = std::max(0, o.render.maxBounces - 1);
+  afterFirst.maxDiffuseBounces = std::max(0, o.render.maxDiffuseBounces - 1);
   parallelFor(0, static_cast<int64_t>(n), [&](int64_t k) {
     const int gx = static_cast<int>(k % g.width), gy = static_cast<int>(k / g.width);
     const int px = g.pixelX(gx, camera.width()), py = g.pixelY(gy, camera.height());
@@ -102,7 +112,7 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
             ++used;
             continue;
           }
-          const Vec3f L = tracer.radiance(org, dir, o.render, rng);
+          const Vec3f L = tracer.radiance(org, dir, afterFirst, rng);
           if (L.allFinite()) {
             sum += L;
             ++used;

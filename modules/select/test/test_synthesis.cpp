@@ -89,14 +89,14 @@ Part renderFloor(const MaterialMaps* maps) {
   return s;
 }
 
-/// chooseBySynthesis on the floor with `shortlist` graphs of the vote, 10 steps, maps of 64.
+/// chooseBySynthesis on the floor with `shortlist` graphs of the vote, `steps` steps, maps of 64.
 SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
-                       int shortlist) {
+                       int shortlist, int steps = 10) {
   PartFitOptions fit = PartFitOptions::preset("fast");
   fit.mapSize = 64;
   SynthesisOptions o;
   o.shortlist = shortlist;
-  o.steps = 10;
+  o.steps = steps;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -118,13 +118,19 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   const std::vector<GraphVote> votes = {vote("fabric_twill", "fabric", 3),
                                         vote("paint_matte_wall", "paint", 2),
                                         vote("wood_planks", "wood", 1)};
-  const SynthesisChoice c = choose(lib, s, votes, 3);
+  // 20 steps: since the incident-light grid counts bounces as the path tracer does (one fewer
+  // after the point), the flat material explains this floor better than before (loss 0.044 ->
+  // 0.013), and the true graph's short fit from its defaults needs more steps to beat it by the
+  // margin: 0.0159 at 10 steps, 0.0120 at 20 (was 0.0337 against 0.0440 at 10)
+  const SynthesisChoice c = choose(lib, s, votes, 3, 20);
   EXPECT_EQ(c.graph, "wood_planks");
   EXPECT_EQ(c.category, "wood");
   ASSERT_EQ(c.finalists.size(), 4u);  // three graphs and homogeneous
   for (size_t i = 0; i < c.finalists.size(); ++i) {
     EXPECT_TRUE(std::isfinite(c.finalists[i].loss)) << c.finalists[i].graph;
-    if (i > 0) EXPECT_LE(c.finalists[i - 1].loss, c.finalists[i].loss);
+    if (i > 0) {
+      EXPECT_LE(c.finalists[i - 1].loss, c.finalists[i].loss);
+    }
   }
   // the winner carries its short fit (its values, UV and roughness)
   EXPECT_FALSE(c.finalists.front().fit.values.empty());

@@ -12,6 +12,24 @@
 // intensities are solved alternately when there are several views. A light whose coefficient
 // ends at zero in every channel, or whose share of the rendered energy is below
 // `dropShare`, is dropped (its radiance set to 0) and the rest re-solved.
+//
+// A light the photos show directly (its emitting surface, or the sky and landscape through a
+// window that opens onto it) is pinned there: those pixels carry no albedo, so where at least
+// `directMinPixels` of them are usable its intensity is their least-squares fit alone, and only
+// the other lights are solved over the rest. Without the pin the solve trades the window's own
+// pixels against surfaces whose albedos are guesses (round 0) or were fitted under the previous
+// lights: on the blender-room example the forest through the window rendered at 0.59 / 0.78 /
+// 0.96 of the photo (R / G / B; 1.01 pinned), darker still with a second view that adds
+// surface pixels but not the window.
+//
+// Where the per-light renders use guessed reflectances (the parts still to be fitted), a region
+// map gives each part a free RGB factor f_r on its guess: P_v(p) = e_v f_r(p) (.) sum_k x_k (.)
+// I_{v,k}(p). The light is then read from how the shading varies within each part (a wall
+// darkening away from a lamp), not from the guesses' brightness against each other (a guess of
+// photo median x pin assumes that every part gets the same light, which makes the lamp over the
+// brightest part look weak). Lights, exposures and factors are solved alternately; per channel
+// the factors' pixel-weighted geometric mean is 1 (a common scale of light and reflectance per
+// channel is not observable: it stays as the guesses set it).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,17 +50,31 @@ struct ViewLightData {
   cv::Mat photo;                 ///< CV_32FC3 linear RGB
   cv::Mat mask;                  ///< CV_8UC1: pixels usable for the fit (non-zero)
   std::vector<cv::Mat> perLight; ///< per light, CV_32FC3 render at unit radiance, photo's size
+  /// Optional, per light (empty, or one per light; an empty Mat: none): CV_8UC1, the pixels
+  /// where the light itself is seen (its emitting surface or an opening onto it). They need not
+  /// lie in `mask` (which a caller may narrow to other evidence); saturated and non-finite
+  /// pixels are left out as there.
+  std::vector<cv::Mat> direct;
+  /// Optional: CV_32SC1, per pixel the region (a part, the same index in every view) whose
+  /// reflectance is only guessed in the per-light renders, -1 where it is known (or none). Each
+  /// region gets its own RGB factor on the guess (LightSolution::regionFactor), so the light is
+  /// read from how the shading varies within each region, not from how bright the guesses are
+  /// against each other.
+  cv::Mat regions;
 };
 
 struct SolveOptions {
   bool perViewExposure = true;   ///< solve e_v for views 1..V-1 (view 0 is the reference)
-  int maxAlternations = 30;
+  int maxAlternations = 200;     ///< the factors' alternation converges slowly (about 100)
   double tolerance = 1e-7;       ///< relative residual change that ends the alternation
   /// Photo values at or above this (linear) are treated as clipped and left out; 8-bit photos
   /// clip at 1.0.
   double saturation = 0.99;
   int maxSamplesPerView = 40000; ///< usable pixels are subsampled on a fixed grid above this
   double dropShare = 0.002;      ///< drop lights contributing less than this share of energy
+  /// A light seen directly on at least this many usable pixels (all views) is pinned to them
+  /// (ViewLightData::direct); 0: never.
+  int directMinPixels = 200;
   bool IsValid(std::string* error) const;
 };
 
@@ -50,6 +82,11 @@ struct LightSolution {
   std::vector<Vec3d> intensity;  ///< per light: the multiplier on its unit-radiance render
   std::vector<double> exposure;  ///< per view (exposure[0] = 1)
   std::vector<bool> dropped;     ///< per light
+  std::vector<int> directPixels; ///< per light: usable pixels where it is seen directly
+  std::vector<bool> pinned;      ///< per light: its intensity came from those pixels alone
+  /// per region (ViewLightData::regions): the factor on its guessed reflectance, RGB; per
+  /// channel the pixel-weighted geometric mean over the regions is 1 (the gauge)
+  std::vector<Vec3d> regionFactor;
   double residualRms = 0;        ///< RMS of the model minus the photo over the samples
   double photoRms = 0;           ///< RMS of the photo over the same samples (for scale)
   int samples = 0;
