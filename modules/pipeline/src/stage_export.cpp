@@ -38,10 +38,6 @@ cv::Mat atSize(const cv::Mat& m, int size) {
   return out;
 }
 
-nlohmann::json vec(const Vec3f& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
 // The maps of a fitted part at the texture size: the graph re-evaluated at the next power of two
 // (never upsampled), area-downsampled when the size is not one.
 void writeTextures(const Reads& in, const PartWork& p, io::MaterialFileDesc& m,
