@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct RunArgs {
-  std::string scene, out, preset, baseline;
+  std::string scene, out, preset, baseline, fitViews = "best";
   int textureSize = 1024;
   int threads = 0;
 };
@@ -30,6 +30,7 @@ void runPipeline(const RunArgs& args) {
   o.textureSize = args.textureSize;
   o.threads = args.threads;
   o.baseline = parseBaseline(args.baseline);
+  o.fitAllViews = args.fitViews == "all";
   const PipelineResult r = ps::runPipeline(o);
   std::printf("%-12s %9s %9s %7s %9s\n", "stage", "seconds", "computed", "cached", "peak MiB");
   for (const StageRecord& s : r.stages)
@@ -55,6 +56,10 @@ void addRunCommand(CLI::App& root) {
       ->check(CLI::Range(4, 16384));
   cmd->add_option("--baseline", args->baseline, "pixel-median | shading-median: a baseline of the paper instead of the method")
       ->check(CLI::IsMember({"none", "pixel-median", "shading-median"}));
+  cmd->add_option("--fit-views", args->fitViews,
+                  "best (default): a part is fitted in the view that sees it best | all: a "
+                  "homogeneous part over every view that sees it well, pooled")
+      ->check(CLI::IsMember({"best", "all"}));
   cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
   cmd->footer(
       "Exit status: 0 done; 2 bad input (nothing written); 130 / 143 after SIGINT / SIGTERM (every "

@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "photoscene/core/error.hpp"
 #include "photoscene/optim/part_fit.hpp"
 #include "photoscene/optim/roughness_prior.hpp"
 
@@ -36,11 +37,23 @@ std::optional<HomogeneousRoughness> homogeneousRoughness(const PartFitOptions& o
 HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
                               const std::vector<float>& grid,
                               const std::optional<HomogeneousRoughness>& rough) {
+  return fitHomogeneous(std::vector<PartView>{{&geo, photo}}, grid, rough);
+}
+
+HomogeneousFit fitHomogeneous(const std::vector<PartView>& views, const std::vector<float>& grid,
+                              const std::optional<HomogeneousRoughness>& rough) {
+  PS_Check(!views.empty(), "fitHomogeneous: no view");
+  for (const PartView& v : views) PS_Check(v.geometry, "fitHomogeneous: a view without geometry");
+  const PartGeometry& first = *views.front().geometry;
   std::vector<float> roughnesses = grid;
-  std::vector<cv::Point> highlight;
+  std::vector<std::vector<cv::Point>> highlight(views.size());
+  bool anyHighlight = false;
   if (rough) {
-    highlight = highlightRegion(geo, rough->highlight);
-    if (highlight.empty()) {
+    for (size_t v = 0; v < views.size(); ++v) {
+      highlight[v] = highlightRegion(*views[v].geometry, rough->highlight);
+      anyHighlight = anyHighlight || !highlight[v].empty();
+    }
+    if (!anyHighlight) {
       roughnesses = {std::clamp(rough->prior.center(), rough->prior.min, rough->prior.max)};
     } else {
       for (float& r : roughnesses) r = std::clamp(r, rough->prior.min, rough->prior.max);
@@ -51,47 +64,60 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
   HomogeneousFit best;
   best.loss = std::numeric_limits<double>::infinity();
   double bestScore = std::numeric_limits<double>::infinity();
-  cv::Scalar photoMean(0, 0, 0);
-  for (const cv::Point& q : geo.pixels) {
-    const cv::Vec3f c = photo.at<cv::Vec3f>(q);
-    for (int k = 0; k < 3; ++k) photoMean[k] += c[k];
+  double pixels = 0;
+  cv::Scalar photoSum(0, 0, 0);
+  for (const PartView& v : views) {
+    for (const cv::Point& q : v.geometry->pixels) {
+      const cv::Vec3f c = v.photo.at<cv::Vec3f>(q);
+      for (int k = 0; k < 3; ++k) photoSum[k] += c[k];
+    }
+    pixels += static_cast<double>(v.geometry->pixels.size());
   }
-  for (int k = 0; k < 3; ++k) photoMean[k] /= std::max<size_t>(1, geo.pixels.size());
+  const double n = std::max(1.0, pixels);
   for (float r : roughnesses) {
-    RenderLayerParams p;
-    p.geometry = &geo;
-    p.roughnessValue = r;
-    p.albedo = constantMap(Vec3f::Zero());
-    renderLayerForward(p);
-    const cv::Mat i0 = p.image.clone();
-    p.albedo = constantMap(Vec3f::Ones());
-    renderLayerForward(p);
-    const cv::Mat d = p.image - i0;
+    // per view: the specular part i0 (no albedo) and the diffuse response d to a white albedo
+    std::vector<cv::Mat> i0(views.size()), d(views.size());
     cv::Scalar s0(0, 0, 0), sd(0, 0, 0);
-    for (const cv::Point& q : geo.pixels) {
-      const cv::Vec3f a = i0.at<cv::Vec3f>(q), b = d.at<cv::Vec3f>(q);
-      for (int k = 0; k < 3; ++k) {
-        s0[k] += a[k];
-        sd[k] += b[k];
+    for (size_t v = 0; v < views.size(); ++v) {
+      RenderLayerParams p;
+      p.geometry = views[v].geometry;
+      p.roughnessValue = r;
+      p.albedo = constantMap(Vec3f::Zero());
+      renderLayerForward(p);
+      i0[v] = p.image.clone();
+      p.albedo = constantMap(Vec3f::Ones());
+      renderLayerForward(p);
+      d[v] = p.image - i0[v];
+      for (const cv::Point& q : views[v].geometry->pixels) {
+        const cv::Vec3f a = i0[v].at<cv::Vec3f>(q), b = d[v].at<cv::Vec3f>(q);
+        for (int k = 0; k < 3; ++k) {
+          s0[k] += a[k];
+          sd[k] += b[k];
+        }
       }
     }
     Vec3f albedo;
-    const double n = std::max<size_t>(1, geo.pixels.size());
     for (int k = 0; k < 3; ++k) {
       const double diffuse = sd[k] / n;
-      albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoMean[k] - s0[k] / n) / diffuse) : 0.5f;
+      albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoSum[k] - s0[k]) / n / diffuse) : 0.5f;
     }
     const float over = albedo.maxCoeff();
     albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
-    const cv::Mat render = i0 + d.mul(cv::Scalar(albedo.x(), albedo.y(), albedo.z()));
-    const double loss = statLoss(photo, render, geo.pixels, nullptr);
+    double loss = 0, hl = 0;
+    for (size_t v = 0; v < views.size(); ++v) {
+      const PartGeometry& g = *views[v].geometry;
+      const cv::Mat render = i0[v] + d[v].mul(cv::Scalar(albedo.x(), albedo.y(), albedo.z()));
+      const double w = static_cast<double>(g.pixels.size()) / n;
+      loss += w * statLoss(views[v].photo, render, g.pixels, nullptr);
+      if (rough && !highlight[v].empty())
+        hl += w * highlightLoss(views[v].photo, render, g.pixels, highlight[v], nullptr);
+    }
     // with the roughness terms, the highlight and the prior alone rank the candidates: the
     // statistics of a flat material's render fall with its roughness whatever the photo shows
     // (a matte floor, truth 0.75: statLoss 0.09 at 0.15 rising to 0.24 at 0.95)
     const double score =
-        rough && !highlight.empty()
-            ? rough->highlightWeight * highlightLoss(photo, render, geo.pixels, highlight, nullptr) +
-                  rough->priorWeight * roughnessPriorLoss(rough->prior, r, nullptr)
+        rough && anyHighlight
+            ? rough->highlightWeight * hl + rough->priorWeight * roughnessPriorLoss(rough->prior, r, nullptr)
             : loss;
     if (score < bestScore) {
       bestScore = score;
@@ -102,7 +128,7 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geo, const cv::Mat& photo,
     spdlog::warn(
         "fitHomogeneous (part {}): the albedo that matches the photo is {:.2f} > 1 in a channel, "
         "clamped to 1: light and albedo traded against each other (the part's light is too dim)",
-        geo.part, best.unclampedMax);
+        first.part, best.unclampedMax);
   return best;
 }
 

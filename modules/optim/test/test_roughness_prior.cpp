@@ -371,6 +371,30 @@ TEST(Optim_RoughnessPrior, homogeneous_roughness_follows_a_predicted_highlight_e
 namespace ps {
 namespace {
 
+// A part seen in two views: the fit over both pools their pixels. With the same albedo in both
+// photos it is each view's fit; with one view's photo 20 % brighter (an exposure error) it lands
+// between them, weighted by pixels.
+TEST(Optim_RoughnessPrior, homogeneous_fit_over_several_views_pools_their_pixels) {
+  Room room = makeRoom(64, 48);
+  std::vector<PartMaterial> mats = {lambert("floor", 0.5f), lambert("walls", 0.7f),
+                                    lambert("ceiling", 0.8f), lambert("box", 0.6f)};
+  mats[room.floor].albedo = Vec3f(0.45f, 0.35f, 0.25f);
+  const FloorPhoto fp = floorPhoto(room, mats, 64, 7, 4);
+  const HomogeneousRoughness rough = *homogeneousRoughness(PartFitOptions::preset("fast"));
+  const HomogeneousFit a = fitHomogeneous(fp.geo, fp.photo, roughnessGrid(5), rough);
+  const HomogeneousFit same =
+      fitHomogeneous({{&fp.geo, fp.photo}, {&fp.geo, fp.photo}}, roughnessGrid(5), rough);
+  const HomogeneousFit brighter =
+      fitHomogeneous({{&fp.geo, fp.photo}, {&fp.geo, fp.photo * 1.2}}, roughnessGrid(5), rough);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(same.albedo[c], a.albedo[c], 1e-5f) << c;
+    EXPECT_GT(brighter.albedo[c], 1.05f * a.albedo[c]) << c;
+    EXPECT_LT(brighter.albedo[c], 1.15f * a.albedo[c]) << c;
+  }
+  EXPECT_FLOAT_EQ(same.roughness, a.roughness);
+  EXPECT_TRUE(std::isfinite(brighter.loss));
+}
+
 // fitHomogeneous flags (and logs) an albedo that must exceed 1 to match the photo and stays finite
 // at black and saturated photos; refineTextured stays finite at a black photo.
 TEST(Optim_RoughnessPrior, homogeneous_fit_flags_a_clamped_albedo_and_stays_finite) {
@@ -401,6 +425,13 @@ TEST(Optim_RoughnessPrior, homogeneous_fit_flags_a_clamped_albedo_and_stays_fini
     EXPECT_TRUE(r.albedo.allFinite());
     EXPECT_TRUE(std::isfinite(r.roughness));
   }
+  // over two views, one a black photo: finite, and the black view pulls the albedo down
+  const HomogeneousFit one = fitHomogeneous(geo, hot * 0.001, roughnessGrid(5));
+  const HomogeneousFit two = fitHomogeneous({{&geo, hot * 0.001}, {&geo, black}}, roughnessGrid(5));
+  EXPECT_FALSE(one.albedoClamped);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(two.albedo[c], 0.6f * one.albedo[c]);
+  EXPECT_TRUE(std::isfinite(two.loss));
+  EXPECT_TRUE(two.albedo.allFinite());
   // the refine stays finite at a black photo (its highlight term included)
   const cv::Mat albedo(8, 8, CV_32FC3, cv::Scalar::all(0.5)),
       normal(8, 8, CV_32FC3, cv::Scalar(0, 0, 1));

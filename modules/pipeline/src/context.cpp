@@ -116,6 +116,18 @@ void Context::finishResult() {
   result.peakMemoryMiB = peakMemoryMiB();
 }
 
+std::vector<int> fitViews(const PartWork& part, bool all) {
+  std::vector<int> views = {part.view};
+  if (!all) return views;
+  double best = 0;
+  for (const ViewSeen& s : part.seen)
+    if (s.view == part.view) best = s.score;
+  for (const ViewSeen& s : part.seen)
+    if (s.view != part.view && s.pixels >= kMinFitPixels && s.score >= 0.5 * best)
+      views.push_back(s.view);
+  return views;
+}
+
 cv::Mat partPhoto(const cv::Mat& photo, const ViewWork& view, int part) {
   cv::Mat out;
   cv::warpAffine(photo, out, cv::Mat(view.warp.at(part)), photo.size(), cv::INTER_LINEAR,

@@ -62,6 +62,13 @@ struct ViewSeen {
 };
 
 enum class PartMode { Fit, Homogeneous, Fixed, Skip, Emitter, Window, Unseen };
+
+struct PartWork;
+/// The views a part may be fitted in: its chosen view; with `all` (PipelineOptions::fitAllViews),
+/// also every other view whose chooseView score is at least half the chosen view's (the fit
+/// pools them for a homogeneous part; the incident grids cover them all). The chosen view first.
+std::vector<int> fitViews(const PartWork& part, bool all);
+constexpr int kMinFitPixels = 16;  ///< fewer M_aln pixels: a part is fitted in closed form
 const char* partModeName(PartMode m);
 
 /// What the stages compute per part (each field written by the stage named).
@@ -169,6 +176,14 @@ struct ContextTesting {
 /// `parts.{}.fixed`), or fitted (+ select, fit, refine0; maps at `mapSize`; `library`).
 std::vector<PartMaterial> neutralMaterials(const Context& ctx, const Reads& in);
 std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize);
+
+/// A homogeneous part's closed-form fit (optim's fitHomogeneous) over the views fitViews names
+/// (`fit_views`): `geometry` and `photo` are its chosen view's (photo divided by that view's
+/// exposure); each further view adds its M_aln, grid and photo / exposure. Reads the stages
+/// align, observe and the current incident grids, and the views' photos and cameras.
+HomogeneousFit fitHomogeneousPart(const Context& ctx, const Reads& in, const PartWork& part,
+                                  const PartGeometry& geometry, const cv::Mat& photo,
+                                  int candidates);
 
 /// Stage bookkeeping: time and units computed / loaded.
 class StageScope {

@@ -24,6 +24,26 @@ std::vector<PartMaterial> neutralMaterials(const Context& ctx, const Reads& in) 
   return mats;
 }
 
+HomogeneousFit fitHomogeneousPart(const Context& ctx, const Reads& in, const PartWork& p,
+                                  const PartGeometry& geometry, const cv::Mat& photo,
+                                  int candidates) {
+  const std::vector<int> views = fitViews(p, in.fitAllViews());
+  std::vector<PartGeometry> geos;
+  geos.reserve(views.size());  // the PartViews point into it
+  std::vector<PartView> pv = {{&geometry, photo}};
+  for (size_t i = 1; i < views.size(); ++i) {
+    const int w = views[i];
+    const ViewWork& view = ctx.views[w];
+    const auto mask = view.fitMask.find(p.id);
+    if (mask == view.fitMask.end()) continue;
+    geos.push_back(preparePartGeometry(view.gbuffer, in.camera(w).position().cast<float>(),
+                                       view.grid, mask->second, p.id));
+    if (geos.back().size() < kMinFitPixels) continue;
+    pv.push_back({&geos.back(), partPhoto(in.photo(w), view, p.id) / ctx.viewExposure(w)});
+  }
+  return fitHomogeneous(pv, roughnessGrid(candidates), homogeneousRoughness(in.fitOptions()));
+}
+
 std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize) {
   std::vector<PartMaterial> mats = neutralMaterials(ctx, in);
   for (const PartWork& p : ctx.parts) {

@@ -13,7 +13,7 @@ namespace ps::pipeline {
 const std::vector<std::string>& optionNames() {
   static const std::vector<std::string> names = {
       "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "max_fit_iterations",
-      "baseline", "write_gltf",   "library",    "ground_truth", "selection"};
+      "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views"};
   return names;
 }
 
@@ -176,6 +176,11 @@ SynthesisOptions Reads::synthesisOptions() const {
   needOption("preset");
   needOption("selection");
   return ctx_.in_.options.selection.value_or(ctx_.in_.budget.synthesis);
+}
+
+bool Reads::fitAllViews() const {
+  needOption("fit_views");
+  return ctx_.in_.options.fitAllViews;
 }
 
 std::optional<int> Reads::maxFitIterations() const {

@@ -61,6 +61,7 @@ struct StageDecl {
 ///   write_gltf        PipelineOptions::writeGltf
 ///   library           the graph library's content (and the exemplar bank's format)
 ///   ground_truth      the case folder's ground-truth renders, cameras and lights (eval)
+///   fit_views         PipelineOptions::fitAllViews
 const std::vector<std::string>& optionNames();
 
 /// The inputs of one stage unit, as declared: each accessor throws ps::Exception naming the
@@ -97,6 +98,7 @@ class Reads {
   const PartFitOptions& fitOptions() const;  ///< preset
   SynthesisOptions synthesisOptions() const;  ///< preset, selection
   std::optional<int> maxFitIterations() const;
+  bool fitAllViews() const;  ///< fit_views
   int textureSize() const;
   double meanAlbedo() const;
   Baseline baseline() const;

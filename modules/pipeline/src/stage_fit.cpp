@@ -31,7 +31,7 @@ class FitStage : public Stage {
     decl.unit = Unit::Part;
     decl.version = kFitVersion;
     decl.scene = {"views[].camera", "views[].image", "views[].color_space", "options.seed"};
-    decl.options = {"preset", "max_fit_iterations", "library", "work_width"};
+    decl.options = {"preset", "max_fit_iterations", "library", "work_width", "fit_views"};
     decl.after = {"geometry", "align", "observe", "select", "incident0"};
     decl.writes = {
         "PartWork: values, uv, roughness, roughnessScale, albedo, loss, seconds, iterations, "
@@ -52,9 +52,12 @@ class FitStage : public Stage {
     const cv::Mat& mask = view.fitMask.at(p.id);
     const PartGeometry geo = preparePartGeometry(
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
-    if (p.mode == PartMode::Homogeneous || geo.size() < 16) {
-      const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(in.budget().refineCandidates),
-                                              homogeneousRoughness(in.fitOptions()));
+    if (p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels) {
+      const HomogeneousFit f =
+          p.mode == PartMode::Homogeneous
+              ? fitHomogeneousPart(ctx, in, p, geo, photo, in.budget().refineCandidates)
+              : fitHomogeneous(geo, photo, roughnessGrid(in.budget().refineCandidates),
+                               homogeneousRoughness(in.fitOptions()));
       p.mode = PartMode::Homogeneous;
       p.graph = p.category = "homogeneous";
       p.albedo = f.albedo;

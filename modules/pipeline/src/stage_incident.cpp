@@ -1,6 +1,8 @@
 // Stages `incident0` and `incident1`: per view, the 8 x 16 incident-light grids (raytrace's
 // computeIncidentLight) under the lights of the same round and its materials (neutral, then
 // fitted); the render layer reads them in the fit and the refine.
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -17,7 +19,7 @@ class IncidentStage : public Stage {
     decl.name = round == 0 ? "incident0" : "incident1";
     decl.unit = Unit::View;
     decl.scene = {"geometry", "up", "lights", "views[].camera", "parts.{}.fixed", "options.seed"};
-    decl.options = {"preset", "work_width", "baseline"};
+    decl.options = {"preset", "work_width", "baseline", "fit_views"};
     decl.after = {"parts", "geometry", "observe", "pin", "lights0"};
     if (round == 1) {
       decl.options.push_back("library");
@@ -43,12 +45,16 @@ class IncidentStage : public Stage {
     o.parts.assign(in.litScene().parts.size(), 0);
     int fitted = 0;
     const bool pixelMedian = in.baseline() == Baseline::PixelMedian;  // reads no grid
-    for (const PartWork& p : ctx.parts)
+    const bool allViews = in.fitAllViews();
+    for (const PartWork& p : ctx.parts) {
+      const std::vector<int> views = fitViews(p, allViews);
       if (!pixelMedian && ((p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous) &&
-                           p.view == v && p.id >= 0 && p.id < static_cast<int>(o.parts.size()))) {
+                           std::find(views.begin(), views.end(), v) != views.end() &&
+                           p.id >= 0 && p.id < static_cast<int>(o.parts.size()))) {
         o.parts[p.id] = 1;
         ++fitted;
       }
+    }
     const GBuffer& gb = ctx.views[v].gbuffer;
     ctx.views[v].grid = computeIncidentLight(*tracer_, gb, in.camera(v), o);
     const IncidentLightGrid& g = ctx.views[v].grid;

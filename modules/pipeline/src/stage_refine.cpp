@@ -17,7 +17,7 @@ class RefineStage : public Stage {
     decl.record = "refine";
     decl.unit = Unit::Part;
     decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
-    decl.options = {"preset", "library", "work_width"};
+    decl.options = {"preset", "library", "work_width", "fit_views"};
     decl.after = {"geometry", "align", "observe",
                   "select",   "fit",   round == 0 ? "incident0" : "incident1"};
     decl.writes = {
@@ -44,8 +44,7 @@ class RefineStage : public Stage {
     const int candidates = in.budget().refineCandidates;
     if (p.mode == PartMode::Homogeneous) {
       // the albedo (per channel, closed form) and roughness again under the new lights
-      const HomogeneousFit f = fitHomogeneous(geo, photo, roughnessGrid(candidates),
-                                              homogeneousRoughness(in.fitOptions()));
+      const HomogeneousFit f = fitHomogeneousPart(ctx, in, p, geo, photo, candidates);
       p.albedo = f.albedo;
       p.roughness = f.roughness;
       p.refineLoss = f.loss;

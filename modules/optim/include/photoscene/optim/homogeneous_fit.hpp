@@ -67,6 +67,21 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geometry, const cv::Mat& photo
                               const std::vector<float>& roughnesses,
                               const std::optional<HomogeneousRoughness>& roughness = std::nullopt);
 
+/// One view of a part, for a fit over several views: its geometry (render frame of that view)
+/// and its photo there, divided by the view's exposure.
+struct PartView {
+  const PartGeometry* geometry = nullptr;
+  cv::Mat photo;  ///< CV_32FC3 linear RGB, the view's Eq. 1 warp, divided by its exposure
+};
+
+/// The same fit over several views of the part at once: the albedo matches the photos' mean over
+/// all their pixels (each pixel counts once, whichever view it is in), a highlight predicted in
+/// any view can move the roughness, and the losses are pixel-weighted over the views. With one
+/// view it is the fit above.
+HomogeneousFit fitHomogeneous(const std::vector<PartView>& views,
+                              const std::vector<float>& roughnesses,
+                              const std::optional<HomogeneousRoughness>& roughness = std::nullopt);
+
 /// The second round for a textured part (the maps keep their pattern).
 struct TexturedRefine {
   float albedoScale = 1.0f;            ///< s: albedo = s (map + o), in [0.25, 4]

@@ -64,6 +64,10 @@ struct PipelineOptions {
   /// Selection by synthesis (select/synthesis.hpp): how many of the kNN vote's graphs are fitted
   /// briefly on the part, and how; default by preset.
   std::optional<SynthesisOptions> selection;
+  /// A homogeneous part is fitted over every view that sees it well (chooseView's score at least
+  /// half the best view's), the photos' pixels pooled, instead of in its chosen view alone (issue
+  /// 19, beyond the paper). Off by default: measured in pipeline/README.md.
+  bool fitAllViews = false;
   bool writeReport = true;
   bool writeGltf = true;
 };
