@@ -70,6 +70,16 @@ inline PartMaterial lambert(const std::string& name, float albedo) {
   return m;
 }
 
+/// Path-tracer options of a reference render: `spp` samples, a one-pixel box filter.
+inline RenderOptions boxFilterOptions(int spp, uint64_t seed) {
+  RenderOptions ro;
+  ro.spp = spp;
+  ro.filter = PixelFilter::Box;
+  ro.filterWidth = 1.0f;
+  ro.seed = seed;
+  return ro;
+}
+
 /// Everything the render layer needs of one view.
 struct View {
   GBuffer gbuffer;

@@ -100,11 +100,7 @@ TEST(Render_Fidelity, layer_matches_path_tracer_for_diffuse_and_glossy_parts) {
     m.roughness = glossy ? 0.35f : 1.0f;
   }
   const PathTracer tracer(room.scene, mats);
-  RenderOptions ro;
-  ro.spp = 768;
-  ro.filter = PixelFilter::Box;
-  ro.filterWidth = 1.0f;
-  ro.seed = 5;
+  const RenderOptions ro = boxFilterOptions(768, 5);
   Timer timer;
   const cv::Mat ref = tracer.render(room.camera, ro);
   const double tRef = timer.seconds();
@@ -145,14 +141,10 @@ TEST(Render_Fidelity, layer_matches_path_tracer_for_diffuse_and_glossy_parts) {
 TEST(Render_Fidelity, the_grid_counts_bounces_as_the_path_tracer_does) {
   const int W = 64, H = 48;
   Room room = makeRoom(W, H);
-  std::vector<PartMaterial> mats = {lambert("floor", 0.9f), lambert("walls", 0.9f),
-                                    lambert("ceiling", 0.9f), lambert("box", 0.9f)};
+  std::vector<PartMaterial> mats;
+  for (const char* name : {"floor", "walls", "ceiling", "box"}) mats.push_back(lambert(name, 0.9f));
   const PathTracer tracer(room.scene, mats);
-  RenderOptions ro;
-  ro.spp = 256;
-  ro.filter = PixelFilter::Box;
-  ro.filterWidth = 1.0f;
-  ro.seed = 9;
+  RenderOptions ro = boxFilterOptions(256, 9);
   ro.maxBounces = 4;  // few bounces, so that the last one carries a large share
   ro.maxDiffuseBounces = 3;
   const cv::Mat ref = tracer.render(room.camera, ro);
