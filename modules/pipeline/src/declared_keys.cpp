@@ -115,6 +115,7 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.voteK)
           .add(s.homogeneous)
           .add(s.textureMargin)
+          .add(s.maxPixelErrorRatio)
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit);
     } else {

@@ -25,8 +25,9 @@ class SelectStage : public Stage {
     // 2: the cached entry holds the vote's top 5 (materials fit.candidates); 3: selection by
     // synthesis (fit.finalists); 4: finalists start from their nearest draw; 5: the winner's
     // short fit is where the fit starts (PartWork::startValues, startUv); 6: the homogeneous
-    // finalist's roughness from highlights only (HomogeneousRoughness)
-    decl.version = 6;
+    // finalist's roughness from highlights only (HomogeneousRoughness); 7: a textured winner's
+    // pixel error at most maxPixelErrorRatio x the homogeneous finalist's
+    decl.version = 7;
   }
 
   bool applies(const Context& ctx, int u) const override {

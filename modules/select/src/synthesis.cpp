@@ -1,6 +1,7 @@
 #include "photoscene/select/synthesis.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -13,7 +14,18 @@ namespace ps {
 
 namespace {
 constexpr const char* kHomogeneous = "homogeneous";
+
+/// RMSE over `pixels` of two CV_32FC3 images, all channels (0 for no pixel or no render).
+double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Point>& pixels) {
+  if (pixels.empty() || a.empty() || a.size() != b.size()) return 0;
+  double sum = 0;
+  for (const cv::Point& q : pixels) {
+    const cv::Vec3f d = a.at<cv::Vec3f>(q) - b.at<cv::Vec3f>(q);
+    sum += d.dot(d);
+  }
+  return std::sqrt(sum / (3.0 * pixels.size()));
 }
+}  // namespace
 
 bool SynthesisOptions::IsValid(std::string* error) const {
   std::ostringstream os;
@@ -27,6 +39,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "steps must be >= 0, got " << steps;
   else if (!(textureMargin >= 0 && textureMargin < 1))
     os << "textureMargin must be in [0, 1), got " << textureMargin;
+  else if (!(maxPixelErrorRatio >= 0))
+    os << "maxPixelErrorRatio must be >= 0, got " << maxPixelErrorRatio;
   if (error) *error = os.str();
   return os.str().empty();
 }
@@ -108,6 +122,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     const Timer t;
     f.fit = fitPart(graph, geometry, photo, target, o);
     f.loss = f.fit.loss;
+    f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
     f.seconds = t.seconds();
   });
   std::stable_sort(
@@ -124,7 +139,9 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   if (textured == out.finalists.end())
     win = homogeneous == out.finalists.end() ? nullptr : &*homogeneous;
   else if (homogeneous == out.finalists.end() ||
-           textured->loss < (1 - options.textureMargin) * homogeneous->loss)
+           (textured->loss < (1 - options.textureMargin) * homogeneous->loss &&
+            (options.maxPixelErrorRatio <= 0 ||
+             textured->pixelRmse <= options.maxPixelErrorRatio * homogeneous->pixelRmse)))
     win = &*textured;
   else
     win = &*homogeneous;

@@ -174,7 +174,9 @@ TEST(Select_Bank, distinct_draws_vote_once_through_their_nearest_rendering) {
   for (size_t i = 0; i < draws.neighbours.size(); ++i) {
     const Exemplar& e = b.exemplars()[draws.neighbours[i]];
     ids.insert({e.graph, e.draw});
-    if (i > 0) EXPECT_GE(draws.distances[i], draws.distances[i - 1]);
+    if (i > 0) {
+      EXPECT_GE(draws.distances[i], draws.distances[i - 1]);
+    }
   }
   EXPECT_EQ(ids.size(), static_cast<size_t>(k));
   // every rendering of a chosen draw is at least as far as the one that votes for it

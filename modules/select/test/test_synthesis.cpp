@@ -91,12 +91,14 @@ Part renderFloor(const MaterialMaps* maps) {
 
 /// chooseBySynthesis on the floor with `shortlist` graphs of the vote, `steps` steps, maps of 64.
 SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
-                       int shortlist, int steps = 10) {
+                       int shortlist, int steps = 10,
+                       double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio) {
   PartFitOptions fit = PartFitOptions::preset("fast");
   fit.mapSize = 64;
   SynthesisOptions o;
   o.shortlist = shortlist;
   o.steps = steps;
+  o.maxPixelErrorRatio = maxPixelErrorRatio;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -134,6 +136,19 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   }
   // the winner carries its short fit (its values, UV and roughness)
   EXPECT_FALSE(c.finalists.front().fit.values.empty());
+  // the right texture, not pixel-aligned by a short fit, misses the photo's pixels by less than
+  // 1.5x the flat material (sqrt 2 at most for the photo's statistics, unaligned): it passes
+  // the pixel-error test; a bar below its ratio hands the part to the flat material
+  const auto flat = std::find_if(c.finalists.begin(), c.finalists.end(),
+                                 [](const SynthesisFinalist& f) { return f.graph == "homogeneous"; });
+  ASSERT_NE(flat, c.finalists.end());
+  const double ratio = c.finalists.front().pixelRmse / flat->pixelRmse;
+  std::printf("pixel RMSE: %s %.4f, homogeneous %.4f (ratio %.2f)\n",
+              c.finalists.front().graph.c_str(), c.finalists.front().pixelRmse, flat->pixelRmse, ratio);
+  EXPECT_GT(flat->pixelRmse, 0);
+  EXPECT_LT(ratio, SynthesisOptions{}.maxPixelErrorRatio);
+  const SynthesisChoice strict = choose(lib, s, votes, 3, 20, 0.9 * ratio);
+  EXPECT_EQ(strict.graph, "homogeneous");
 }
 
 TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {

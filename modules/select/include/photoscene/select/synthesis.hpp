@@ -13,8 +13,9 @@
 //
 // Texture only where the photo shows one (model selection): the homogeneous material has 4 free
 // values, a graph a dozen or more, so a graph must lower the loss below the homogeneous one's by
-// the factor (1 - textureMargin) to be chosen; a part whose pixels are flat, blurred or noise
-// stays homogeneous.
+// the factor (1 - textureMargin) to be chosen, and its render must not miss the photo's pixels by
+// more than maxPixelErrorRatio times the homogeneous material's RMSE (texture must not cost pixel
+// error); a part whose pixels are flat, blurred or noise stays homogeneous.
 //
 //   ps::SynthesisChoice c = ps::chooseBySynthesis(lib, vote.votes, geo, photo, target,
 //                                                 ps::PartFitOptions::preset("balanced"), {});
@@ -39,6 +40,13 @@ struct SynthesisOptions {
   int voteK = 60;           ///< neighbours in the vote that lists the finalists (a longer list)
   bool homogeneous = true;  ///< the homogeneous material is a finalist (model selection)
   double textureMargin = 0.05;  ///< a graph must beat the homogeneous loss by this fraction
+  /// ... and its render must not miss the photo's pixels by more than this times the homogeneous
+  /// material's masked RMSE (0: no such test). A texture with the photo's statistics but not
+  /// aligned to it doubles the pixel variance (RMSE x sqrt 2 at most, less where the photo has
+  /// noise); above 1.5x the texture has more contrast or another structure than the photo (on
+  /// the yardstick's check half a tile wall went to fabric_windowpane at RMSE 54 against the flat
+  /// material's 27).
+  double maxPixelErrorRatio = 1.5;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`). Off by default, with warmStartFit: on the
@@ -58,6 +66,7 @@ struct SynthesisFinalist {
   int draw = -1;       ///< its nearest draw in the vote (GraphVote::nearestDraw); the short fit
                        ///< starts there with startFromNearestDraw (<= 0: the defaults)
   double loss = 0;     ///< fit loss after the short fit
+  double pixelRmse = 0;  ///< masked RMSE of its render against the photo (linear)
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
 };
