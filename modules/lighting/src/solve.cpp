@@ -253,10 +253,21 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
     return std::sqrt(err / (3.0 * total));
   };
 
+  // With a pinned light and several views the exposures come from the solve without the pin,
+  // then stay: a pinned light's intensity follows the exposures of the views that show it
+  // (x = sum e_v L P / sum e_v^2 L^2) and those exposures follow the light, so where the window
+  // is seen in one view only the two would trade along x e_v = const and drift (the yardstick's
+  // window case ran to exposure 0 and an intensity of 1e153).
+  bool solveExposures = options.perViewExposure && views.size() > 1;
+  if (solveExposures && std::find(sol.pinned.begin(), sol.pinned.end(), true) != sol.pinned.end()) {
+    SolveOptions unpinned = options;
+    unpinned.directMinPixels = 0;
+    sol.exposure = solveLights(views, unpinned).exposure;
+    solveExposures = false;
+  }
   for (int round = 0; round <= lights; ++round) {
     double previous = std::numeric_limits<double>::infinity();
-    const int alternations =
-        ((options.perViewExposure && views.size() > 1) || regions > 0) ? options.maxAlternations : 1;
+    const int alternations = (solveExposures || regions > 0) ? options.maxAlternations : 1;
     for (int it = 0; it < alternations; ++it) {
       // intensities per channel for fixed exposures: the pinned lights from the pixels that
       // show them, then the others by NNLS over the rest of the photo
@@ -297,7 +308,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
         for (int j = 0; j < n; ++j) sol.intensity[free[j]][c] = x[j];
       }
       // exposures for fixed intensities (view 0 is the reference)
-      if (alternations > 1) {
+      if (solveExposures) {
         for (size_t v = 1; v < data.size(); ++v) {
           const Samples& s = data[v];
           double pm = 0, mm = 0;

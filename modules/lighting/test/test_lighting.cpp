@@ -239,6 +239,40 @@ TEST(Lighting_Solve, free_factors_per_part_recover_the_light_ratio_from_shading_
       << u.summary();
 }
 
+// The environment alone, its window seen in the second view only, surfaces it explains only in
+// part: the pinned intensity follows that view's exposure and the exposure the intensity, so
+// solved together they drifted (exposure to 0, the intensity to 1e153 on the yardstick's window
+// case). The exposures come from the solve without the pin: everything stays finite, and the
+// window's pixels are matched (intensity x exposure).
+TEST(Lighting_Solve, a_window_seen_in_one_view_only_does_not_drift_with_the_exposure) {
+  Rng rng(4);
+  const cv::Size size(60, 40);
+  const cv::Rect window(4, 4, 20, 12);
+  const double truth = 0.7, exposure1 = 1.3;
+  std::vector<ViewLightData> views(2);
+  for (int v = 0; v < 2; ++v) {
+    ViewLightData& d = views[v];
+    d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+    d.perLight = {smoothField(size, rng, 30) * 8.0};
+    d.direct = {cv::Mat::zeros(size, CV_8UC1)};
+    if (v == 1) {
+      d.perLight[0](window).setTo(cv::Scalar(0.3, 0.5, 0.4));
+      d.direct[0](window).setTo(255);
+    }
+    cv::multiply(d.perLight[0], cv::Scalar::all(truth * (v == 1 ? exposure1 : 1.0)), d.photo);
+    cv::Mat surfaces = d.photo * 0.6;  // 60 % of the light on the surfaces unexplained
+    if (v == 1) surfaces(window).setTo(cv::Scalar::all(0));
+    d.photo += surfaces;
+  }
+  const LightSolution s = solveLights(views);
+  ASSERT_TRUE(s.pinned[0]) << s.summary();
+  EXPECT_TRUE(std::isfinite(s.residualRms)) << s.summary();
+  EXPECT_GT(s.exposure[1], 0.5 * exposure1) << s.summary();
+  EXPECT_LT(s.exposure[1], 2.0 * exposure1) << s.summary();
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(s.intensity[0][c] * s.exposure[1] / (truth * exposure1), 1.0, 0.01) << s.summary();
+}
+
 TEST(Lighting_Solve, refuses_empty_input) {
   ViewLightData v;
   v.photo = cv::Mat(4, 4, CV_32FC3, cv::Scalar(1, 1, 1));  // all saturated
