@@ -190,24 +190,15 @@ std::string LightSolution::summary() const {
   return s + buf;
 }
 
-LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOptions& options) {
-  std::string why;
-  PS_Check(options.IsValid(&why), why);
-  PS_Check(!views.empty(), "solveLights: no views");
-  const int lights = static_cast<int>(views[0].perLight.size());
-  std::vector<Samples> data;
-  std::vector<std::vector<DirectSamples>> direct;
-  int total = 0;
-  for (const auto& v : views) {
-    data.push_back(gather(v, lights, options));
-    direct.push_back(gatherDirect(v, lights, options));
-    total += data.back().count;
-  }
-  PS_Check(total > 0, "solveLights: no usable pixel in any view (masks empty or photos saturated)");
+namespace {
 
+/// solveLights on the gathered samples of every view (`total` of them in all).
+LightSolution solveSamples(const std::vector<Samples>& data,
+                           const std::vector<std::vector<DirectSamples>>& direct, int lights,
+                           int total, const SolveOptions& options) {
   LightSolution sol;
   sol.intensity.assign(lights, Vec3d::Zero());
-  sol.exposure.assign(views.size(), 1.0);
+  sol.exposure.assign(data.size(), 1.0);
   sol.dropped.assign(lights, false);
   sol.samples = total;
   sol.directPixels.assign(lights, 0);
@@ -235,6 +226,12 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
     for (int r : s.region)
       if (r >= 0) regionWeight[r] += 1;
   auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
+  // the active lights' sum at sample i, channel c (before exposure and factor)
+  auto lit = [&](const Samples& s, int i, int c) {
+    double m = 0;
+    for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
+    return m;
+  };
 
   auto residual = [&]() {
     double err = 0, ref = 0;
@@ -242,9 +239,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
       const Samples& s = data[v];
       for (int i = 0; i < s.count; ++i)
         for (int c = 0; c < 3; ++c) {
-          double m = 0;
-          for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
-          const double d = sol.exposure[v] * factor(s.region[i], c) * m - s.photo[3 * i + c];
+          const double d = sol.exposure[v] * factor(s.region[i], c) * lit(s, i, c) - s.photo[3 * i + c];
           err += d * d;
           ref += double(s.photo[3 * i + c]) * s.photo[3 * i + c];
         }
@@ -258,11 +253,11 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
   // (x = sum e_v L P / sum e_v^2 L^2) and those exposures follow the light, so where the window
   // is seen in one view only the two would trade along x e_v = const and drift (the yardstick's
   // window case ran to exposure 0 and an intensity of 1e153).
-  bool solveExposures = options.perViewExposure && views.size() > 1;
+  bool solveExposures = options.perViewExposure && data.size() > 1;
   if (solveExposures && std::find(sol.pinned.begin(), sol.pinned.end(), true) != sol.pinned.end()) {
     SolveOptions unpinned = options;
     unpinned.directMinPixels = 0;
-    sol.exposure = solveLights(views, unpinned).exposure;
+    sol.exposure = solveSamples(data, direct, lights, total, unpinned).exposure;
     solveExposures = false;
   }
   for (int round = 0; round <= lights; ++round) {
@@ -314,9 +309,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
           double pm = 0, mm = 0;
           for (int i = 0; i < s.count; ++i)
             for (int c = 0; c < 3; ++c) {
-              double m = 0;
-              for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
-              m *= factor(s.region[i], c);
+              const double m = factor(s.region[i], c) * lit(s, i, c);
               pm += m * s.photo[3 * i + c];
               mm += m * m;
             }
@@ -333,9 +326,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
             const int r = s.region[i];
             if (r < 0) continue;
             for (int c = 0; c < 3; ++c) {
-              double m = 0;
-              for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
-              m *= sol.exposure[v];
+              const double m = sol.exposure[v] * lit(s, i, c);
               pm[r][c] += m * s.photo[3 * i + c];
               mm[r][c] += m * m;
             }
@@ -385,6 +376,25 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
   }
   sol.residualRms = residual();
   return sol;
+}
+
+}  // namespace
+
+LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOptions& options) {
+  std::string why;
+  PS_Check(options.IsValid(&why), why);
+  PS_Check(!views.empty(), "solveLights: no views");
+  const int lights = static_cast<int>(views[0].perLight.size());
+  std::vector<Samples> data;
+  std::vector<std::vector<DirectSamples>> direct;
+  int total = 0;
+  for (const auto& v : views) {
+    data.push_back(gather(v, lights, options));
+    direct.push_back(gatherDirect(v, lights, options));
+    total += data.back().count;
+  }
+  PS_Check(total > 0, "solveLights: no usable pixel in any view (masks empty or photos saturated)");
+  return solveSamples(data, direct, lights, total, options);
 }
 
 }  // namespace ps::lighting

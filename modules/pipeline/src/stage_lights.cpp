@@ -105,14 +105,9 @@ class LightsStage : public Stage {
       // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
       // mask, whose pixels it does not replace
       for (int k : freeLights) {
-        cv::Mat m = cv::Mat::zeros(d.mask.size(), CV_8UC1);
         std::vector<int> own = lights[k]->emittingParts();
         for (int id : lights[k]->openingParts()) own.push_back(id);
-        for (int id : own) {
-          const auto it = ctx.views[v].photoMask.find(id);
-          if (it != ctx.views[v].photoMask.end() && it->second.size() == m.size()) m |= it->second;
-        }
-        d.direct.push_back(m & d.mask);
+        d.direct.push_back(photoMaskOf(ctx.views[v], own, d.mask.size()) & d.mask);
       }
       // the parts whose reflectance the renders only guess (round 0: photo median x pin; round
       // 1: the fit's, made under round 0's lights) each get a free factor in the solve; not for
@@ -173,13 +168,10 @@ class LightsStage : public Stage {
     std::vector<double> onFixed(data.empty() ? 0 : data[0].perLight.size(), 0.0);
     std::vector<double> onAll(onFixed.size(), 0.0);
     for (size_t v = 0; v < data.size(); ++v) {
-      cv::Mat m = cv::Mat::zeros(data[v].mask.size(), CV_8UC1);
-      for (const PartWork& p : ctx.parts) {
-        if (p.mode != PartMode::Fixed) continue;
-        const auto it = ctx.views[v].photoMask.find(p.id);
-        if (it != ctx.views[v].photoMask.end() && it->second.size() == m.size()) m |= it->second;
-      }
-      m &= data[v].mask;
+      std::vector<int> fixed;
+      for (const PartWork& p : ctx.parts)
+        if (p.mode == PartMode::Fixed) fixed.push_back(p.id);
+      cv::Mat m = photoMaskOf(ctx.views[v], fixed, data[v].mask.size()) & data[v].mask;
       pixels += cv::countNonZero(m);
       total += cv::countNonZero(data[v].mask);
       for (size_t k = 0; k < onFixed.size() && k < data[v].perLight.size(); ++k) {
@@ -199,6 +191,16 @@ class LightsStage : public Stage {
     for (size_t v = 0; v < data.size(); ++v) data[v].mask = masks[v];
     spdlog::info("{}: anchored on the parts of given material ({} px of {})", decl.name, pixels,
                  total);
+  }
+
+  // the union of the parts' M_photo in a view (CV_8UC1 of `size`; parts it lacks add nothing)
+  static cv::Mat photoMaskOf(const ViewWork& view, const std::vector<int>& parts, cv::Size size) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8UC1);
+    for (int id : parts) {
+      const auto it = view.photoMask.find(id);
+      if (it != view.photoMask.end() && it->second.size() == size) m |= it->second;
+    }
+    return m;
   }
 
   // sum over the mask of a render's three channels
