@@ -102,11 +102,13 @@ int main(int argc, char** argv) {
     const ps::PathTracer tracer(twin.scene, twin.materials);
     const ps::Camera cam = twin.scene.views.at(0).camera.resized(width, height);
     const double exposure = twin.exposure.empty() ? 1.0 : twin.exposure[0];
-    auto render = [&](int spp, uint64_t seed) {
+    auto render = [&](int spp, uint64_t seed, ps::DenoiseGuides* guides) {
       ps::RenderOptions o;
       o.spp = spp;
       o.seed = seed;
-      return ps::renderTwinView(tracer, cam, o, exposure);
+      cv::Mat img = tracer.render(cam, o, nullptr, guides);
+      if (guides) guides->variance *= exposure * exposure;
+      return cv::Mat(img * exposure);
     };
 
     cv::Mat ref;
@@ -119,7 +121,7 @@ int main(int argc, char** argv) {
       }
       std::printf("reference: %s (cached)\n", refPath.c_str());
     } else {
-      Timed t = timed([&] { ref = render(refSpp, 4242); });
+      Timed t = timed([&] { ref = render(refSpp, 4242, nullptr); });
       ps::io::writeImage(refPath, ref);
       std::printf("reference: %s, %d spp, %.1f CPU-s (%.1f s wall)\n", refPath.c_str(), refSpp,
                   t.cpu, t.wall);
@@ -132,10 +134,10 @@ int main(int argc, char** argv) {
     std::printf("| --- | --- | --- | --- | --- |\n");
     cv::Mat firstNoisy, firstDenoised;
     for (int spp : low) {
-      cv::Mat noisy, clean;
+      cv::Mat noisy, clean, clean2;
       ps::GBuffer gb;
-      ps::DenoiseGuides g;
-      const Timed tr = timed([&] { noisy = render(spp, 1); });
+      ps::DenoiseGuides g, own;
+      const Timed tr = timed([&] { noisy = render(spp, 1, nullptr); });
       const Timed tg = timed([&] {
         ps::GBufferOptions go;
         go.coverageSamples = 1;
@@ -144,22 +146,30 @@ int main(int argc, char** argv) {
         g = ps::denoiseGuides(tracer, gb);
       });
       const Timed td = timed([&] { clean = ps::denoise(g, noisy); });
+      // the render's own guides (same seed: the same image) and the denoiser on them
+      cv::Mat noisy2;
+      const Timed tr2 = timed([&] { noisy2 = render(spp, 1, &own); });
+      const Timed td2 = timed([&] { clean2 = ps::denoise(own, noisy2); });
       std::printf("| raw %d spp | %.2f | %.2f | %.2f | %.4f |\n", spp, tr.cpu, tr.wall,
                   ps::eval::rmse(noisy, ref, ColorSpace::Srgb255),
                   ps::eval::ssim(noisy, ref, ColorSpace::Srgb255));
-      std::printf("| **denoised %d spp** | %.2f (%.2f + %.2f + %.2f) | %.2f | %.2f | %.4f |\n", spp,
+      std::printf("| denoised %d spp, G-buffer guides | %.2f (%.2f + %.2f + %.2f) | %.2f | %.2f | %.4f |\n", spp,
                   tr.cpu + tg.cpu + td.cpu, tr.cpu, tg.cpu, td.cpu, tr.wall + tg.wall + td.wall,
                   ps::eval::rmse(clean, ref, ColorSpace::Srgb255),
                   ps::eval::ssim(clean, ref, ColorSpace::Srgb255));
+      std::printf("| **denoised %d spp, the render's guides** | %.2f (%.2f + %.2f) | %.2f | %.2f | %.4f |\n", spp,
+                  tr2.cpu + td2.cpu, tr2.cpu, td2.cpu, tr2.wall + td2.wall,
+                  ps::eval::rmse(clean2, ref, ColorSpace::Srgb255),
+                  ps::eval::ssim(clean2, ref, ColorSpace::Srgb255));
       std::fflush(stdout);
       if (firstNoisy.empty()) {
         firstNoisy = noisy;
-        firstDenoised = clean;
+        firstDenoised = clean2;
       }
     }
     for (int spp : high) {
       cv::Mat img;
-      const Timed tr = timed([&] { img = render(spp, 1); });
+      const Timed tr = timed([&] { img = render(spp, 1, nullptr); });
       std::printf("| raw %d spp | %.2f | %.2f | %.2f | %.4f |\n", spp, tr.cpu, tr.wall,
                   ps::eval::rmse(img, ref, ColorSpace::Srgb255),
                   ps::eval::ssim(img, ref, ColorSpace::Srgb255));

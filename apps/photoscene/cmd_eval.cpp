@@ -59,7 +59,7 @@ void addEvalCommand(CLI::App& root) {
     std::string out, scene;
     int spp = 64, threads = 0;
     uint64_t seed = 0;
-    bool noParts = false, noGroundTruth = false, rerender = false;
+    bool noParts = false, noGroundTruth = false, rerender = false, noDenoise = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("out", a->out, "Output folder of `photoscene run`")->required();
@@ -74,6 +74,8 @@ void addEvalCommand(CLI::App& root) {
       ->check(CLI::Range(0, 4096));
   cmd->add_flag("--rerender", a->rerender,
                 "Render the input views even when OUT/renders/view<i>.exr exist");
+  cmd->add_flag("--no-denoise", a->noDenoise,
+                "Score the renders made here as path traced (default: denoised, as `run` does)");
   cmd->add_flag("--no-parts", a->noParts, "Skip the per-part RMSE over the aligned masks");
   cmd->add_flag("--no-ground-truth", a->noGroundTruth,
                 "Skip the case's novel-view and relit ground truth");
@@ -85,6 +87,7 @@ void addEvalCommand(CLI::App& root) {
     opt.useSavedRenders = !a->rerender;
     opt.parts = !a->noParts;
     opt.groundTruth = !a->noGroundTruth;
+    opt.denoise = !a->noDenoise;
     const eval::TwinEvaluation e = eval::evaluateTwin(a->out, a->scene, opt);
     eval::writeMetricsJson(a->out, e);
     printTable(e);

@@ -20,6 +20,8 @@ struct RunArgs {
   std::string scene, out, preset, baseline, fitViews = "best";
   int textureSize = 1024;
   int threads = 0;
+  int renderSpp = 0;  // 0: the preset's
+  bool noDenoise = false;
 };
 
 void runPipeline(const RunArgs& args) {
@@ -31,6 +33,8 @@ void runPipeline(const RunArgs& args) {
   o.threads = args.threads;
   o.baseline = parseBaseline(args.baseline);
   o.fitAllViews = args.fitViews == "all";
+  if (args.renderSpp > 0) o.renderSpp = args.renderSpp;
+  o.denoise = !args.noDenoise;
   const PipelineResult r = ps::runPipeline(o);
   std::printf("%-12s %9s %9s %7s %9s\n", "stage", "seconds", "computed", "cached", "peak MiB");
   for (const StageRecord& s : r.stages)
@@ -60,6 +64,12 @@ void addRunCommand(CLI::App& root) {
                   "best (default): a part is fitted in the view that sees it best | all: a "
                   "homogeneous part over every view that sees it well, pooled")
       ->check(CLI::IsMember({"best", "all"}));
+  cmd->add_option("--render-spp", args->renderSpp,
+                  "Samples per pixel of the final and evaluation renders (default: the preset's: "
+                  "fast 8, balanced 16, paper 64)")
+      ->check(CLI::Range(1, 1 << 16));
+  cmd->add_flag("--no-denoise", args->noDenoise,
+                "Keep the final and evaluation renders as path traced (default: denoised)");
   cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
   cmd->footer(
       "Exit status: 0 done; 2 bad input (nothing written); 130 / 143 after SIGINT / SIGTERM (every "

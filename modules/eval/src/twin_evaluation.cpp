@@ -289,8 +289,9 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
     }
     if (exposed.empty()) {
       Timer t;
-      exposed = renderTwinView(tracer, camera, ro, exposure);
-      vs.render = "path tracer, " + std::to_string(options.spp) + " spp";
+      exposed = renderTwinView(tracer, camera, ro, exposure, nullptr, options.denoise);
+      vs.render = "path tracer, " + std::to_string(options.spp) + " spp" +
+                  (options.denoise ? ", denoised" : "");
       spdlog::info("eval: rendered view {} ({}x{}, {} spp) in {:.1f}s", i, camera.width(),
                    camera.height(), options.spp, t.seconds());
     }
@@ -352,7 +353,7 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
       Timer t;
       cv::Mat render;
       if (gt.kind == GroundTruthRender::Kind::Novel) {
-        render = renderTwinView(tracer, camera, ro, meanExposure);
+        render = renderTwinView(tracer, camera, ro, meanExposure, nullptr, options.denoise);
         result.novel.push_back({gt.name, score(render, reference)});
       } else {
         Scene relit = twin.scene;
@@ -360,11 +361,11 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
         requireRadiance(relit, gt.lights->string());
         const PathTracer relitTracer(relit, twin.materials);
         const double e = gt.camera ? meanExposure : twin.exposure[gt.view];
-        render = renderTwinView(relitTracer, camera, ro, e);
+        render = renderTwinView(relitTracer, camera, ro, e, nullptr, options.denoise);
         result.relit.push_back({gt.name, score(render, reference)});
       }
-      spdlog::info("eval: {} ({}x{}, {} spp) in {:.1f}s", gt.name, camera.width(), camera.height(),
-                   options.spp, t.seconds());
+      spdlog::info("eval: {} ({}x{}, {} spp{}) in {:.1f}s", gt.name, camera.width(),
+                   camera.height(), options.spp, options.denoise ? ", denoised" : "", t.seconds());
     }
   }
   result.seconds = timer.seconds();

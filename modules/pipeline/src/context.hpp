@@ -26,7 +26,7 @@ struct PresetBudget {
   int lightSpp = 32;        ///< one-light-at-a-time renders
   int incidentSamples = 4;  ///< samples per incident-light bin
   int incidentStride = 8;
-  int renderSpp = 64;        ///< final renders
+  int renderSpp = 16;        ///< final renders (denoised by default: 16 spp denoised beats 64 raw)
   int refineCandidates = 7;  ///< roughness values tried in the second round
   SynthesisOptions synthesis;  ///< selection by synthesis (the vote's finalists fitted briefly)
   static PresetBudget of(const std::string& preset);

@@ -125,6 +125,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
     h.add(static_cast<int>(o.baseline));
   else if (name == "fit_views")
     h.add(o.fitAllViews);
+  else if (name == "denoise")
+    h.add(o.denoise);
   else if (name == "write_gltf")
     h.add(o.writeGltf);
   else if (name == "library")

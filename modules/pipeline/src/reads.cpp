@@ -13,7 +13,7 @@ namespace ps::pipeline {
 const std::vector<std::string>& optionNames() {
   static const std::vector<std::string> names = {
       "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "max_fit_iterations",
-      "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views"};
+      "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views", "denoise"};
   return names;
 }
 
@@ -176,6 +176,11 @@ SynthesisOptions Reads::synthesisOptions() const {
   needOption("preset");
   needOption("selection");
   return ctx_.in_.options.selection.value_or(ctx_.in_.budget.synthesis);
+}
+
+bool Reads::denoise() const {
+  needOption("denoise");
+  return ctx_.in_.options.denoise;
 }
 
 bool Reads::fitAllViews() const {

@@ -50,7 +50,7 @@ PresetBudget PresetBudget::of(const std::string& preset) {
     b.lightSpp = 16;
     b.incidentSamples = 4;
     b.incidentStride = 8;
-    b.renderSpp = 32;
+    b.renderSpp = 8;
     b.refineCandidates = 5;
     b.synthesis.shortlist = 2;
     b.synthesis.categories = 2;
@@ -59,7 +59,7 @@ PresetBudget PresetBudget::of(const std::string& preset) {
     b.lightSpp = 64;
     b.incidentSamples = 16;
     b.incidentStride = 4;
-    b.renderSpp = 256;
+    b.renderSpp = 64;
     b.refineCandidates = 9;
     b.synthesis.shortlist = 5;
     b.synthesis.categories = 4;

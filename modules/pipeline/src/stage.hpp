@@ -99,6 +99,7 @@ class Reads {
   SynthesisOptions synthesisOptions() const;  ///< preset, selection
   std::optional<int> maxFitIterations() const;
   bool fitAllViews() const;  ///< fit_views
+  bool denoise() const;      ///< denoise
   int textureSize() const;
   double meanAlbedo() const;
   Baseline baseline() const;

@@ -230,15 +230,16 @@ void writeRenders(const Reads& in, const fs::path& out, std::vector<fs::path>& w
     ro.seed = in.seed() + 7919 * v;
     RenderStats stats;
     const double exposure = v < twin.exposure.size() ? twin.exposure[v] : 1.0;
-    const cv::Mat image = renderTwinView(tracer, twin.scene.views[v].camera, ro, exposure, &stats);
+    const cv::Mat image =
+        renderTwinView(tracer, twin.scene.views[v].camera, ro, exposure, &stats, in.denoise());
     const fs::path exr = out / "renders" / fmt::format("view{}.exr", v);
     const fs::path png = out / "renders" / fmt::format("view{}.png", v);
     io::writeImage(exr, image);
     io::writeImage(png, image);
     written.push_back(exr);
     written.push_back(png);
-    spdlog::info("render view {}: {}x{} at {} spp in {:.1f} s", v, image.cols, image.rows, ro.spp,
-                 stats.seconds);
+    spdlog::info("render view {}: {}x{} at {} spp{} in {:.1f} s", v, image.cols, image.rows, ro.spp,
+                 in.denoise() ? ", denoised" : "", stats.seconds);
   }
 }
 
@@ -250,9 +251,10 @@ class ExportStage : public Stage {
  public:
   explicit ExportStage(std::vector<std::string> after) {
     decl.name = "export";
-    decl.version = 7;
+    decl.version = 8;
     decl.scene = {""};
-    decl.options = {"texture_size", "preset", "render_spp", "baseline", "write_gltf", "library"};
+    decl.options = {"texture_size", "preset",     "render_spp", "denoise",
+                    "baseline",     "write_gltf", "library"};
     decl.after = std::move(after);
     decl.writes = {"OUT/materials/*.json",
                    "OUT/textures/*",

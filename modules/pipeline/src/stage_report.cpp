@@ -20,7 +20,7 @@ class MetricsStage : public Stage {
   MetricsStage() {
     decl.name = "metrics";
     decl.scene = {""};
-    decl.options = {"preset", "render_spp", "ground_truth"};
+    decl.options = {"preset", "render_spp", "denoise", "ground_truth"};
     decl.after = {"export"};
     decl.writes = {"OUT/metrics.json"};
   }
@@ -29,6 +29,7 @@ class MetricsStage : public Stage {
     const fs::path& out = in.out();
     eval::EvalOptions o;
     o.spp = in.renderSpp();
+    o.denoise = in.denoise();
     o.seed = in.seed();
     const eval::TwinEvaluation e = eval::evaluateTwin(out, in.evalScene(), o);
     std::map<std::string, double> seconds;

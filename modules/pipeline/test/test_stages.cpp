@@ -270,6 +270,7 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
        }},
       {"write_gltf", [](RunInputs& i, bool on) { i.options.writeGltf = !on; }},
       {"fit_views", [](RunInputs& i, bool on) { i.options.fitAllViews = on; }},
+      {"denoise", [](RunInputs& i, bool on) { i.options.denoise = !on; }},
       {"library",
        [](RunInputs& i, bool on) {
          i.bankName = on ? i.bankName + "-edited" : i.bankName.substr(0, i.bankName.size() - 7);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 
+#include "photoscene/core/color.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/timer.hpp"
@@ -215,10 +217,19 @@ bool RenderOptions::IsValid(std::string* error) const {
   if (rouletteDepth < 0) return fail("rouletteDepth must be >= 0");
   if (!(filterWidth > 0) || filterWidth > 16) return fail("filterWidth must be in (0, 16]");
   if (clampSample < 0) return fail("clampSample must be >= 0");
+  if (!(adaptiveThreshold >= 0) || !std::isfinite(adaptiveThreshold))
+    return fail("adaptiveThreshold must be finite and >= 0");
+  if (adaptiveMinSpp < 2) return fail("adaptiveMinSpp must be >= 2");
   return true;
 }
 
 namespace {
+
+// What a camera path's first scattering point looks like, for the denoiser's guides.
+struct FirstHit {
+  bool surface = false;  // a surface that reflects (not an emitter, not the environment)
+  Vec3f albedo = Vec3f::Ones(), normal = Vec3f::Zero(), position = Vec3f::Zero();
+};
 
 struct Tracer final : LightRays {
   const PathTracer& pt;
@@ -324,7 +335,8 @@ struct Tracer final : LightRays {
   // light it came from (emission found by BSDF sampling to the light that was hit, next-event
   // samples of each light to that light); the return value is then their sum.
   template <class Sampler>
-  Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp, Vec3f* perLight = nullptr) {
+  Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp, Vec3f* perLight = nullptr,
+             FirstHit* first = nullptr) {
     Vec3f Lsum = Vec3f::Zero(), beta = Vec3f::Ones();
     auto add = [&](int light, const Vec3f& c) {
       Lsum += c;
@@ -376,6 +388,12 @@ struct Tracer final : LightRays {
       const SurfacePoint sp = pt.surfacePoint(hit);
       const PartMaterial& mat = pt.material(sp.part);
       const MaterialSample ms = mat.evaluate(sp.uv);
+      if (depth == 0 && first && em.light < 0) {  // an emitter is no surface to filter
+        first->surface = true;
+        first->albedo = (ms.diffuseColor() + ms.f0()).cwiseMax(0.0f).cwiseMin(1.0f);
+        first->normal = sp.ns.dot(dir) > 0 ? Vec3f(-sp.ns) : sp.ns;
+        first->position = sp.p;
+      }
       const MicrofacetBsdf bsdf(ms.diffuseColor(), ms.f0(), ms.roughness, opt.principledDiffuse);
       if (bsdf.black()) break;
       const Vec3f wo = -dir;
@@ -551,10 +569,11 @@ Vec3f PathTracer::radiance(const Vec3f& org, const Vec3f& dir, const RenderOptio
 namespace {
 
 // The pixel loop of render() and renderPerLight(): one image, or (act.perLight) one per light.
+// `guides` (one image only): the denoiser's guides from the pixel's own samples.
 std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights& lights,
                                   const RayAccel& accel, const Camera& camera,
                                   const RenderOptions& options, const ActiveLights& act,
-                                  RenderStats* stats) {
+                                  RenderStats* stats, DenoiseGuides* guides = nullptr) {
   std::string err;
   PS_Check(options.IsValid(&err), err);
   PS_Check(camera.width() > 0 && camera.height() > 0, "camera without size");
@@ -563,62 +582,112 @@ std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights
   const int nImages = act.perLight ? static_cast<int>(act.scale.size()) : 1;
   std::vector<cv::Mat> images(nImages);
   for (cv::Mat& m : images) m = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
+  const bool adaptive = nImages == 1 && options.adaptiveThreshold > 0 &&
+                        options.adaptiveMinSpp < options.spp;
+  const bool features = guides && nImages == 1;
+  if (features) {
+    guides->albedo = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(1));
+    guides->normal = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
+    guides->depth = cv::Mat(H, W, CV_32FC1, cv::Scalar(0));
+    guides->variance = cv::Mat(H, W, CV_32FC1, cv::Scalar(0));
+  }
   const FilterSampler filter(options.filter, options.filterWidth);
   const Vec3f eye = camera.position().cast<float>();
-  const float invSpp = 1.0f / static_cast<float>(options.spp);
-  std::atomic<uint64_t> totalRays{0}, dropped{0};
+  const Vec3f camZ = camera.cameraToWorld().block<3, 1>(0, 2).cast<float>();
+  std::atomic<uint64_t> totalRays{0}, dropped{0}, totalSamples{0};
   parallelForRanges(0, H, 1, [&](int64_t y0, int64_t y1) {
     Tracer tr{pt, lights, act, options, accel};
-    uint64_t bad = 0;
+    uint64_t bad = 0, taken = 0;
     std::vector<Vec3f> sample(nImages), sum(nImages);
     for (int64_t y = y0; y < y1; ++y)
       for (int x = 0; x < W; ++x) {
         SobolSampler smp(options.seed, static_cast<uint64_t>(y) * W + x);
         std::fill(sum.begin(), sum.end(), Vec3f::Zero());
+        // Welford over the samples' luminance (adaptive stop, variance guide); first-hit sums.
+        double lumMean = 0, lumM2 = 0;
+        Vec3f albedoSum = Vec3f::Zero(), normalSum = Vec3f::Zero();
+        float depthSum = 0;
+        int hits = 0, n = 0;
         for (int s = 0; s < options.spp; ++s) {
+          if (adaptive && s >= options.adaptiveMinSpp && s % 4 == 0) {
+            // standard error of the mean luminance against a tone-mapped tolerance
+            const double se = std::sqrt(lumM2 / (double(n) * (n - 1)));
+            if (se <= options.adaptiveThreshold * (std::sqrt(std::max(lumMean, 0.0)) + 1e-3)) break;
+          }
           smp.startSample(static_cast<uint32_t>(s));
           const Vec2f up = smp.get2D(0);
           const float ox = filter.sample(up.x()), oy = filter.sample(up.y());
           const Vec3f d = camera.rayDirection(x + ox, y + oy).cast<float>();
+          FirstHit fh;
           if (act.perLight) {
             std::fill(sample.begin(), sample.end(), Vec3f::Zero());
             tr.path(eye, d, smp, sample.data());
           } else {
-            sample[0] = tr.path(eye, d, smp);
+            sample[0] = tr.path(eye, d, smp, nullptr, features ? &fh : nullptr);
           }
+          ++n;
           for (int k = 0; k < nImages; ++k) {
             Vec3f c = sample[k];
             if (!c.allFinite()) {
               ++bad;
-              continue;
+              c = Vec3f::Zero();  // counted as a black sample: the mean stays over n samples
             }
             if (options.clampSample > 0) c = c.cwiseMin(options.clampSample);
             sum[k] += c;
           }
+          if (adaptive || features) {
+            const double l = luminance(sample[0].allFinite() ? sample[0] : Vec3f::Zero());
+            const double delta = l - lumMean;
+            lumMean += delta / n;
+            lumM2 += delta * (l - lumMean);
+          }
+          if (features) {
+            albedoSum += fh.albedo;
+            if (fh.surface) {
+              normalSum += fh.normal;
+              depthSum += (fh.position - eye).dot(camZ);
+              ++hits;
+            }
+          }
         }
+        taken += n;
+        const float inv = 1.0f / static_cast<float>(n);
         for (int k = 0; k < nImages; ++k) {
-          const Vec3f m = sum[k] * invSpp;
+          const Vec3f m = sum[k] * inv;
           images[k].ptr<cv::Vec3f>(static_cast<int>(y))[x] = cv::Vec3f(m.x(), m.y(), m.z());
+        }
+        if (features) {
+          const int yi = static_cast<int>(y);
+          const Vec3f a = albedoSum * inv;
+          guides->albedo.ptr<cv::Vec3f>(yi)[x] = cv::Vec3f(a.x(), a.y(), a.z());
+          if (2 * hits > n && normalSum.norm() > 0) {  // mostly a surface: filter it
+            const Vec3f nn = normalSum.normalized();
+            guides->normal.ptr<cv::Vec3f>(yi)[x] = cv::Vec3f(nn.x(), nn.y(), nn.z());
+            guides->depth.ptr<float>(yi)[x] = std::max(depthSum / hits, 1e-6f);
+          }
+          guides->variance.ptr<float>(yi)[x] =
+              n > 1 ? static_cast<float>(lumM2 / (double(n) * (n - 1))) : 0.0f;
         }
       }
     totalRays += tr.rays;
     dropped += bad;
+    totalSamples += taken;
   });
   if (dropped > 0) spdlog::warn("path tracer: {} non-finite samples dropped", dropped.load());
   if (stats) {
     stats->seconds = timer.seconds();
     stats->rays = totalRays.load();
-    stats->samples = static_cast<uint64_t>(W) * H * options.spp;
+    stats->samples = totalSamples.load();
   }
   return images;
 }
 
 }  // namespace
 
-cv::Mat PathTracer::render(const Camera& camera, const RenderOptions& options,
-                           RenderStats* stats) const {
+cv::Mat PathTracer::render(const Camera& camera, const RenderOptions& options, RenderStats* stats,
+                           DenoiseGuides* guides) const {
   const ActiveLights act = makeActive(scene_, *lights_, options.lights);
-  return renderImages(*this, *lights_, *accel_, camera, options, act, stats)[0];
+  return renderImages(*this, *lights_, *accel_, camera, options, act, stats, guides)[0];
 }
 
 std::vector<cv::Mat> PathTracer::renderPerLight(const Camera& camera, const RenderOptions& options,

@@ -6,6 +6,8 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "photoscene/core/timer.hpp"
+#include "photoscene/raytrace/denoise.hpp"
 #include "photoscene/io/image_io.hpp"
 
 namespace ps {
@@ -13,8 +15,14 @@ namespace ps {
 namespace fs = std::filesystem;
 
 cv::Mat renderTwinView(const PathTracer& tracer, const Camera& camera, const RenderOptions& options,
-                       double exposure, RenderStats* stats) {
-  cv::Mat img = tracer.render(camera, options, stats);
+                       double exposure, RenderStats* stats, bool denoise) {
+  DenoiseGuides guides;
+  cv::Mat img = tracer.render(camera, options, stats, denoise ? &guides : nullptr);
+  if (denoise) {
+    Timer t;
+    img = ps::denoise(guides, img);
+    spdlog::debug("denoised {}x{} in {:.2f} s", img.cols, img.rows, t.seconds());
+  }
   if (exposure != 1.0) img *= exposure;
   return img;
 }
@@ -78,7 +86,7 @@ std::vector<fs::path> renderTwinCommand(const TwinRenderRequest& req) {
     Camera cam = views[i].first;
     if (req.width > 0) cam = cam.resized(req.width, req.height);
     RenderStats stats;
-    images.push_back(renderTwinView(tracer, cam, req.options, views[i].second, &stats));
+    images.push_back(renderTwinView(tracer, cam, req.options, views[i].second, &stats, req.denoise));
     spdlog::info("render {}: {}x{} at {} spp in {:.2f}s ({:.2f} Mrays/s)", outputs[i].string(), cam.width(),
                  cam.height(), req.options.spp, stats.seconds, stats.raysPerSecond() * 1e-6);
     PS_Check(allFinite(images.back()), "non-finite pixels in the render");

@@ -552,5 +552,193 @@ TEST(Raytrace_IncidentLight, furnace_grid_is_constant_and_shades_lambert_exactly
   EXPECT_GT(points, 10);
 }
 
+
+// sRGB 0-255 RMSE (what the evaluation scores), over pixels where mask is set (all if empty).
+double srgbRmse(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv::Mat()) {
+  const cv::Mat sa = linearToSrgb(a, CV_32F), sb = linearToSrgb(b, CV_32F);
+  double s = 0;
+  int n = 0;
+  for (int y = 0; y < a.rows; ++y)
+    for (int x = 0; x < a.cols; ++x) {
+      if (!mask.empty() && !mask.at<uint8_t>(y, x)) continue;
+      const cv::Vec3f d = sa.at<cv::Vec3f>(y, x) - sb.at<cv::Vec3f>(y, x);
+      s += d.dot(d) / 3.0;
+      ++n;
+    }
+  return n ? 255.0 * std::sqrt(s / n) : 0.0;
+}
+
+TEST(Raytrace_RenderGuides, the_render_gives_the_denoiser_guides_that_match_its_geometry) {
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(64, 48, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  RenderOptions opt;
+  opt.spp = 8;
+  opt.seed = 3;
+  DenoiseGuides g;
+  const cv::Mat img = tracer.render(cam, opt, nullptr, &g);
+  // asking for the guides does not change the image
+  EXPECT_EQ(cv::norm(img, tracer.render(cam, opt), cv::NORM_INF), 0.0);
+  ASSERT_EQ(g.albedo.size(), img.size());
+  ASSERT_EQ(g.variance.type(), CV_32FC1);
+  GBufferOptions go;
+  go.coverageSamples = 4;
+  go.passWindows = true;
+  const GBuffer gb = renderGBuffer(tracer, cam, go);
+  const int walls = 1;  // the room is closed but for the window: part -1 is seen through it
+  int wallPixels = 0, windowPixels = 0;
+  double windowAlbedo = 0;  // 1 where a sample sees no surface
+  for (int y = 1; y + 1 < img.rows; ++y)
+    for (int x = 1; x + 1 < img.cols; ++x) {
+      // interior pixels: the 3x3 neighbourhood shows one face of one part, or only the
+      // environment through the window (the pixel filter reaches 0.75 px)
+      const int part = gb.partId.at<int>(y, x);
+      bool interior = part < 0 || (!gb.coverage[part].empty() &&
+                                   gb.coverage[part].at<float>(y, x) == 1.0f);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          interior &= gb.partId.at<int>(y + dy, x + dx) == part &&
+                      gb.normalShading.at<cv::Vec3f>(y + dy, x + dx) ==
+                          gb.normalShading.at<cv::Vec3f>(y, x);
+      if (!interior) continue;
+      const float z = g.depth.at<float>(y, x);
+      if (part == walls) {
+        ++wallPixels;
+        const cv::Vec3f a = g.albedo.at<cv::Vec3f>(y, x);
+        const MaterialSample ms = mats[walls].evaluate(Vec2f(0, 0));
+        const Vec3f expected = ms.diffuseColor() + ms.f0();
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], expected[k], 1e-5);
+        EXPECT_NEAR(z, gb.depth.at<float>(y, x), 0.02 * gb.depth.at<float>(y, x));
+        const cv::Vec3f n = g.normal.at<cv::Vec3f>(y, x), m = gb.normalShading.at<cv::Vec3f>(y, x);
+        EXPECT_GT(n.dot(m), 0.999);
+      }
+      if (part < 0) {  // the environment through the window: no surface, passed through
+        ++windowPixels;
+        EXPECT_EQ(z, 0.0f);
+        windowAlbedo += g.albedo.at<cv::Vec3f>(y, x)[1];
+      }
+      EXPECT_GE(g.variance.at<float>(y, x), 0.0f);
+      EXPECT_TRUE(std::isfinite(g.variance.at<float>(y, x)));
+    }
+  EXPECT_GT(wallPixels, 200);
+  EXPECT_GT(windowPixels, 10);
+  EXPECT_GT(windowAlbedo / windowPixels, 0.99);
+}
+
+TEST(Raytrace_RenderGuides, the_variance_guide_is_the_variance_of_the_pixel_mean) {
+  // Across independent seeds the pixel's luminance varies by the variance of its mean; the
+  // guide estimates it from one render's samples as if they were independent (the Sobol
+  // samples are stratified, so the true variance is lower: the guide errs on the safe side,
+  // within a small factor). And it falls as 1 / spp.
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(32, 24, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  RenderOptions opt;
+  opt.spp = 16;
+  const int seeds = 12;
+  std::vector<cv::Mat> lum;
+  cv::Mat guideMean(cam.height(), cam.width(), CV_64FC1, cv::Scalar(0));
+  for (int s = 0; s < seeds; ++s) {
+    opt.seed = 100 + s;
+    DenoiseGuides g;
+    const cv::Mat img = tracer.render(cam, opt, nullptr, &g);
+    cv::Mat l(img.size(), CV_64FC1);
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) {
+        const cv::Vec3f c = img.at<cv::Vec3f>(y, x);
+        l.at<double>(y, x) = luminance(double(c[0]), double(c[1]), double(c[2]));
+      }
+    lum.push_back(l);
+    cv::Mat gv;
+    g.variance.convertTo(gv, CV_64F);
+    guideMean += gv / seeds;
+  }
+  double empirical = 0, guide = 0;
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x) {
+      double m = 0, m2 = 0;
+      for (const cv::Mat& l : lum) m += l.at<double>(y, x) / seeds;
+      for (const cv::Mat& l : lum) m2 += std::pow(l.at<double>(y, x) - m, 2) / (seeds - 1);
+      empirical += m2;
+      guide += guideMean.at<double>(y, x);
+    }
+  ASSERT_GT(empirical, 0);
+  EXPECT_GT(guide / empirical, 0.8);
+  EXPECT_LT(guide / empirical, 4.0);
+  // 4x the samples: a quarter of the variance (the guide's mean over the image)
+  opt.seed = 100;
+  opt.spp = 64;
+  DenoiseGuides g64;
+  tracer.render(cam, opt, nullptr, &g64);
+  EXPECT_NEAR(cv::mean(g64.variance)[0] / cv::mean(guideMean)[0], 0.25, 0.08);
+}
+
+TEST(Raytrace_RenderGuides, denoised_low_spp_beats_raw_four_times_the_samples) {
+  // The property at test size: 8 spp denoised with the render's own guides is closer to
+  // a 1024-spp reference than 32 spp raw, on RMSE (sRGB 0-255) over the image.
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(96, 72, 40, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  RenderOptions opt;
+  opt.spp = 1024;
+  opt.seed = 4242;
+  const cv::Mat ref = tracer.render(cam, opt);
+  opt.seed = 1;
+  opt.spp = 8;
+  DenoiseGuides g;
+  const cv::Mat noisy = tracer.render(cam, opt, nullptr, &g);
+  const cv::Mat clean = denoise(g, noisy);
+  opt.spp = 32;
+  const cv::Mat raw32 = tracer.render(cam, opt);
+  const double eNoisy = srgbRmse(noisy, ref), eClean = srgbRmse(clean, ref),
+               e32 = srgbRmse(raw32, ref);
+  EXPECT_LT(eClean, e32) << "raw 8: " << eNoisy << ", denoised 8: " << eClean << ", raw 32: " << e32;
+  EXPECT_LT(eClean, 0.8 * eNoisy) << "raw 8: " << eNoisy << ", denoised 8: " << eClean << ", raw 32: " << e32;
+}
+
+TEST(Raytrace_Adaptive, threshold_zero_is_the_plain_render_and_a_threshold_spends_fewer_samples) {
+  std::vector<PartMaterial> mats;
+  const Scene scene = boxRoom(&mats);
+  const PathTracer tracer(scene, mats);
+  const Camera cam = makeCamera(64, 48, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  RenderOptions opt;
+  opt.spp = 64;
+  opt.seed = 9;
+  RenderStats plainStats, adaptiveStats;
+  const cv::Mat plain = tracer.render(cam, opt, &plainStats);
+  EXPECT_EQ(plainStats.samples, uint64_t(64) * 48 * 64);
+  opt.adaptiveMinSpp = 16;
+  opt.adaptiveThreshold = 0.0f;  // off
+  EXPECT_EQ(cv::norm(plain, tracer.render(cam, opt), cv::NORM_INF), 0.0);
+  opt.adaptiveThreshold = 0.1f;
+  const cv::Mat adaptive = tracer.render(cam, opt, &adaptiveStats);
+  ASSERT_TRUE(allFinite(adaptive));
+  EXPECT_LT(adaptiveStats.samples, plainStats.samples * 3 / 4);
+  EXPECT_GE(adaptiveStats.samples, uint64_t(64) * 48 * 16);
+  // the same image within noise (a stopped pixel keeps the mean of the samples it took)
+  EXPECT_LT(maxBlockZ(adaptive, plain, 16), kMaxZ);
+  // and the samples went where the noise is: at the same number of samples, the adaptive image
+  // is closer to a reference than a uniform one
+  RenderOptions ro = opt;
+  ro.adaptiveThreshold = 0;
+  ro.spp = 1024;
+  ro.seed = 4242;
+  const cv::Mat ref = tracer.render(cam, ro);
+  ro.seed = 9;
+  ro.spp = static_cast<int>(adaptiveStats.samples / (64 * 48));
+  const cv::Mat uniform = tracer.render(cam, ro);
+  EXPECT_LT(srgbRmse(adaptive, ref), srgbRmse(uniform, ref))
+      << ro.spp << " spp uniform against adaptive with the same samples";
+  std::string err;
+  opt.adaptiveMinSpp = 1;
+  EXPECT_FALSE(opt.IsValid(&err));
+  opt.adaptiveMinSpp = 16;
+  opt.adaptiveThreshold = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(opt.IsValid(&err));
+}
+
 }  // namespace
 }  // namespace ps

@@ -55,6 +55,7 @@ struct EvalOptions {
   bool useSavedRenders = true;  ///< read OUT/renders/view<i>.exr instead of rendering when usable
   bool parts = true;            ///< per-part RMSE over M_aln
   bool groundTruth = true;      ///< novel and relit ground truth of the case folder
+  bool denoise = true;          ///< renders made here are denoised (renderTwinView), as run's are
   bool IsValid(std::string* error) const;
 };
 

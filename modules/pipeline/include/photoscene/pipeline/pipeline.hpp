@@ -68,6 +68,10 @@ struct PipelineOptions {
   /// half the best view's), the photos' pixels pooled, instead of in its chosen view alone (issue
   /// 19, beyond the paper). Off by default: measured in pipeline/README.md.
   bool fitAllViews = false;
+  /// The renders people look at and the evaluation scores (OUT/renders, metrics' novel and relit
+  /// views) are denoised (ps::denoise, guided by each render's own albedo, normal, depth and
+  /// variance) at the preset's render_spp. Never what the light solve or the fit read.
+  bool denoise = true;
   bool writeReport = true;
   bool writeGltf = true;
 };

@@ -17,9 +17,9 @@
 // evaluation renders): never denoise what the light solve or the material fit read (it would
 // bias their least squares with the filter's blur).
 //
-//   ps::GBuffer gb = ps::renderGBuffer(tracer, cam, {.coverageSamples = 1, .passWindows = true});
-//   ps::DenoiseGuides g = ps::denoiseGuides(tracer, gb);
-//   cv::Mat clean = ps::denoise(g, tracer.render(cam, opt), {});
+//   ps::DenoiseGuides g;
+//   cv::Mat noisy = tracer.render(cam, opt, nullptr, &g);   // guides from the render's samples
+//   cv::Mat clean = ps::denoise(g, noisy);
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -29,16 +29,7 @@
 
 namespace ps {
 
-/// Per-pixel guides, all of the noisy image's size, in the pixel grid of the noisy image.
-struct DenoiseGuides {
-  cv::Mat albedo;  ///< CV_32FC3, linear RGB reflectance of the first hit in [0, 1] (what the
-                   ///< light is multiplied by); 1 where there is no surface (background)
-  cv::Mat normal;  ///< CV_32FC3, unit world-space shading normal of the first hit; 0 where no hit
-  cv::Mat depth;   ///< CV_32FC1, camera-space z (m) of the first hit, > 0; 0 where no hit
-  cv::Mat
-      variance;  ///< optional (empty: estimated from the image): CV_32FC1, variance of the
-                 ///< luminance (Rec. 709) of each noisy pixel's mean, in the noisy image's units
-};
+// DenoiseGuides (path_tracer.hpp): per-pixel albedo, normal, depth and variance.
 
 struct DenoiseOptions {
   int levels = 5;               ///< a-trous levels (step 2^i px, i < levels): 5 reaches +-62 px

@@ -75,14 +75,35 @@ struct RenderOptions {
   bool principledDiffuse = false;
   /// Clamp of a single sample's contribution (0 = none; Cycles' 'no clamping' is 0).
   float clampSample = 0.0f;
+  /// Adaptive sampling (0 = off; render() only, never renderPerLight): after adaptiveMinSpp
+  /// samples, and then every 4, a pixel stops once the standard error of its mean luminance
+  /// (from the samples' own variance) is at most adaptiveThreshold * (sqrt(mean) + 0.001): an
+  /// error tolerance on a square-root tone curve, so dark and bright pixels stop at about the
+  /// same visible noise. spp is the most a pixel gets. Flat, evenly lit walls stop early;
+  /// glossy edges and penumbrae take the samples.
+  float adaptiveThreshold = 0.0f;
+  int adaptiveMinSpp = 16;
   bool IsValid(std::string* error) const;
 };
 
 struct RenderStats {
   double seconds = 0;
-  uint64_t rays = 0;  ///< closest-hit + shadow rays traced
-  uint64_t samples = 0;
+  uint64_t rays = 0;     ///< closest-hit + shadow rays traced
+  uint64_t samples = 0;  ///< camera samples taken (fewer than pixels x spp when adaptive)
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
+};
+
+/// What a denoiser is steered by, per pixel, of the noisy image's size (ps::denoise). From
+/// PathTracer::render: the average over the pixel's own camera samples (the pixel filter's
+/// footprint, so edges and textures match the image exactly).
+struct DenoiseGuides {
+  cv::Mat albedo;  ///< CV_32FC3, linear RGB reflectance of the first hit in [0, 1] (diffuse
+                   ///< colour + F0: what the light is multiplied by); 1 where there is no surface
+  cv::Mat normal;  ///< CV_32FC3, unit world-space shading normal of the first hit; 0 where no hit
+  cv::Mat depth;   ///< CV_32FC1, camera-space z (m) of the first hit, > 0; 0 where no hit
+  cv::Mat
+      variance;  ///< optional (empty: estimated from the image): CV_32FC1, variance of the
+                 ///< luminance (Rec. 709) of each noisy pixel's mean, in the noisy image's units
 };
 
 /// A shading point on the mesh.
@@ -102,9 +123,13 @@ class PathTracer {
   PathTracer(const Scene& scene, const std::vector<PartMaterial>& materials);
   ~PathTracer();
 
-  /// Renders a linear RGB image (CV_32FC3, camera.width() x camera.height()).
-  cv::Mat render(const Camera& camera, const RenderOptions& options,
-                 RenderStats* stats = nullptr) const;
+  /// Renders a linear RGB image (CV_32FC3, camera.width() x camera.height()). `guides`
+  /// (optional): the denoiser's guides from the same samples: the mean first-hit albedo, the
+  /// first hit's shading normal and camera-space depth where most of the pixel's samples hit a
+  /// reflecting surface (emitters, windows' outside and the environment: no surface), and the
+  /// variance of each pixel's mean luminance from its samples.
+  cv::Mat render(const Camera& camera, const RenderOptions& options, RenderStats* stats = nullptr,
+                 DenoiseGuides* guides = nullptr) const;
   /// One image per light of scene.lights.all() at unit scale (area emitters, registered lights,
   /// the environment last): the images the lighting least squares combines. One trace for all
   /// lights: each camera path is traced once; at every vertex each light gets its own

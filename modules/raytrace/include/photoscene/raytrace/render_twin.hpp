@@ -21,12 +21,16 @@ struct TwinRenderRequest {
   std::optional<std::filesystem::path> lightsFile;  ///< LIGHTS.json: relight (replaces emitters and environment)
   std::filesystem::path output;                     ///< IMAGE.{png,exr,hdr,jpg}
   RenderOptions options;
+  bool denoise = false;       ///< ps::denoise the render (renderTwinView)
   int width = 0, height = 0;  ///< 0: the camera's size; else the camera resized (same field of view)
 };
 
 /// Renders one view of a loaded twin: the path-traced image times `exposure` (CV_32FC3 linear).
+/// `denoise`: filtered by ps::denoise, guided by the render's own first-hit albedo, normal,
+/// depth and per-pixel variance (for images people look at and the evaluation's renders; never
+/// for what the light solve or the fit read).
 cv::Mat renderTwinView(const PathTracer& tracer, const Camera& camera, const RenderOptions& options,
-                       double exposure = 1.0, RenderStats* stats = nullptr);
+                       double exposure = 1.0, RenderStats* stats = nullptr, bool denoise = false);
 
 /// Checks the request, loads the twin, renders and writes the image(s) atomically; nothing is
 /// written unless every view rendered. Several input views (no camera file) are written as
