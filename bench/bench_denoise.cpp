@@ -1,5 +1,6 @@
 // ps_bench_denoise [TWIN] [--reference REF.exr] [--ref-spp N] [--low 16,32] [--high 64,128,256]
-//                  [--width W --height H] [--png SIDE_BY_SIDE.png]
+//                  [--adaptive 0.05,0.1 --adaptive-spp 32] [--width W --height H]
+//                  [--png SIDE_BY_SIDE.png]
 // The G-buffer-guided denoiser (ps::denoise) against raw path tracing at equal CPU time, on view
 // 0 of a twin (default: the bundled sample's ground-truth twin). The reference is a
 // --ref-spp render (default 4096, seed 4242) cached in REF.exr (rendered when the file is
@@ -66,6 +67,8 @@ int main(int argc, char** argv) {
   fs::path pngPath;
   int refSpp = 4096, width = 320, height = 240;
   std::vector<int> low = {8, 16, 32}, high = {64, 128, 256};
+  std::vector<double> adaptive;  // thresholds (RenderOptions::adaptiveThreshold)
+  int adaptiveSpp = 32;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -83,6 +86,12 @@ int main(int argc, char** argv) {
       low = parseList(next());
     else if (a == "--high")
       high = parseList(next());
+    else if (a == "--adaptive") {
+      std::stringstream ss(next());
+      std::string item;
+      while (std::getline(ss, item, ',')) adaptive.push_back(std::stod(item));
+    } else if (a == "--adaptive-spp")
+      adaptiveSpp = std::stoi(next());
     else if (a == "--width")
       width = std::stoi(next());
     else if (a == "--height")
@@ -102,11 +111,14 @@ int main(int argc, char** argv) {
     const ps::PathTracer tracer(twin.scene, twin.materials);
     const ps::Camera cam = twin.scene.views.at(0).camera.resized(width, height);
     const double exposure = twin.exposure.empty() ? 1.0 : twin.exposure[0];
-    auto render = [&](int spp, uint64_t seed, ps::DenoiseGuides* guides) {
+    auto render = [&](int spp, uint64_t seed, ps::DenoiseGuides* guides, double threshold = 0,
+                      ps::RenderStats* stats = nullptr) {
       ps::RenderOptions o;
       o.spp = spp;
       o.seed = seed;
-      cv::Mat img = tracer.render(cam, o, nullptr, guides);
+      o.adaptiveThreshold = static_cast<float>(threshold);
+      o.adaptiveMinSpp = std::max(2, std::min(8, spp / 4));
+      cv::Mat img = tracer.render(cam, o, stats, guides);
       if (guides) guides->variance *= exposure * exposure;
       return cv::Mat(img * exposure);
     };
@@ -166,6 +178,23 @@ int main(int argc, char** argv) {
         firstNoisy = noisy;
         firstDenoised = clean2;
       }
+    }
+    for (double t : adaptive) {
+      cv::Mat noisy, clean;
+      ps::DenoiseGuides own;
+      ps::RenderStats st;
+      const Timed tr = timed([&] { noisy = render(adaptiveSpp, 1, &own, t, &st); });
+      const Timed td = timed([&] { clean = ps::denoise(own, noisy); });
+      const double mean = double(st.samples) / (double(width) * height);
+      std::printf("| adaptive %.3g (%d spp max, %.1f mean) raw | %.2f | %.2f | %.2f | %.4f |\n", t,
+                  adaptiveSpp, mean, tr.cpu, tr.wall,
+                  ps::eval::rmse(noisy, ref, ColorSpace::Srgb255),
+                  ps::eval::ssim(noisy, ref, ColorSpace::Srgb255));
+      std::printf("| **adaptive %.3g (%d spp max, %.1f mean) denoised** | %.2f (%.2f + %.2f) | %.2f | %.2f | %.4f |\n",
+                  t, adaptiveSpp, mean, tr.cpu + td.cpu, tr.cpu, td.cpu, tr.wall + td.wall,
+                  ps::eval::rmse(clean, ref, ColorSpace::Srgb255),
+                  ps::eval::ssim(clean, ref, ColorSpace::Srgb255));
+      std::fflush(stdout);
     }
     for (int spp : high) {
       cv::Mat img;

@@ -645,6 +645,10 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
   p.textureSize = o.textureSize;
   p.workWidth = o.width;
   p.renderSpp = sppFor(o, lighting);
+  // the yardstick scores the fitted twin against a noisy photo at the photo's spp, raw as in
+  // every earlier row of its tables (denoising would lower both the method's and the baseline's
+  // RMSE by the render's noise and make old and new rows incomparable)
+  p.denoise = false;
   p.writeReport = false;
   p.writeGltf = false;
   p.selection = o.selection;

@@ -21,6 +21,7 @@ struct RunArgs {
   int textureSize = 1024;
   int threads = 0;
   int renderSpp = 0;  // 0: the preset's
+  int evalSpp = 0;
   bool noDenoise = false;
 };
 
@@ -34,6 +35,7 @@ void runPipeline(const RunArgs& args) {
   o.baseline = parseBaseline(args.baseline);
   o.fitAllViews = args.fitViews == "all";
   if (args.renderSpp > 0) o.renderSpp = args.renderSpp;
+  if (args.evalSpp > 0) o.evalSpp = args.evalSpp;
   o.denoise = !args.noDenoise;
   const PipelineResult r = ps::runPipeline(o);
   std::printf("%-12s %9s %9s %7s %9s\n", "stage", "seconds", "computed", "cached", "peak MiB");
@@ -65,8 +67,12 @@ void addRunCommand(CLI::App& root) {
                   "homogeneous part over every view that sees it well, pooled")
       ->check(CLI::IsMember({"best", "all"}));
   cmd->add_option("--render-spp", args->renderSpp,
-                  "Samples per pixel of the final and evaluation renders (default: the preset's: "
-                  "fast 8, balanced 16, paper 64)")
+                  "Samples per pixel of the final renders of the input views (default: the "
+                  "preset's: fast 8, balanced 16, paper 64)")
+      ->check(CLI::Range(1, 1 << 16));
+  cmd->add_option("--eval-spp", args->evalSpp,
+                  "Samples per pixel of the evaluation's novel and relit renders (default: the "
+                  "preset's: fast 8, balanced 8, paper 32)")
       ->check(CLI::Range(1, 1 << 16));
   cmd->add_flag("--no-denoise", args->noDenoise,
                 "Keep the final and evaluation renders as path traced (default: denoised)");

@@ -26,7 +26,10 @@ struct PresetBudget {
   int lightSpp = 32;        ///< one-light-at-a-time renders
   int incidentSamples = 4;  ///< samples per incident-light bin
   int incidentStride = 8;
-  int renderSpp = 16;        ///< final renders (denoised by default: 16 spp denoised beats 64 raw)
+  int renderSpp = 16;  ///< final renders (denoised by default: 16 spp denoised beats 64 raw)
+  /// the evaluation's novel and relit renders: what their noise floor needs once denoised (the
+  /// twin's own error against the ground truth is several times the noise left at 8 spp)
+  int evalSpp = 8;
   int refineCandidates = 7;  ///< roughness values tried in the second round
   SynthesisOptions synthesis;  ///< selection by synthesis (the vote's finalists fitted briefly)
   static PresetBudget of(const std::string& preset);

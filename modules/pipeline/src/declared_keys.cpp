@@ -103,6 +103,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
     h.add(o.meanAlbedo);
   else if (name == "render_spp")
     h.add(o.renderSpp.value_or(-1));
+  else if (name == "eval_spp")
+    h.add(o.evalSpp.value_or(-1));
   else if (name == "max_fit_iterations")
     h.add(o.maxFitIterations.value_or(-1));
   else if (name == "selection")

@@ -12,7 +12,7 @@ namespace ps::pipeline {
 
 const std::vector<std::string>& optionNames() {
   static const std::vector<std::string> names = {
-      "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "max_fit_iterations",
+      "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "eval_spp", "max_fit_iterations",
       "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views", "denoise"};
   return names;
 }
@@ -165,6 +165,12 @@ int Reads::renderSpp() const {
   needOption("preset");
   needOption("render_spp");
   return ctx_.in_.options.renderSpp.value_or(ctx_.in_.budget.renderSpp);
+}
+
+int Reads::evalSpp() const {
+  needOption("preset");
+  needOption("eval_spp");
+  return ctx_.in_.options.evalSpp.value_or(ctx_.in_.budget.evalSpp);
 }
 
 const PartFitOptions& Reads::fitOptions() const {

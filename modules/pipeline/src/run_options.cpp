@@ -60,6 +60,7 @@ PresetBudget PresetBudget::of(const std::string& preset) {
     b.incidentSamples = 16;
     b.incidentStride = 4;
     b.renderSpp = 64;
+    b.evalSpp = 32;
     b.refineCandidates = 9;
     b.synthesis.shortlist = 5;
     b.synthesis.categories = 4;

@@ -95,6 +95,7 @@ class Reads {
   const std::string& preset() const;
   const PresetBudget& budget() const;        ///< preset (its renderSpp: use renderSpp())
   int renderSpp() const;                     ///< preset, render_spp
+  int evalSpp() const;                       ///< preset, eval_spp
   const PartFitOptions& fitOptions() const;  ///< preset
   SynthesisOptions synthesisOptions() const;  ///< preset, selection
   std::optional<int> maxFitIterations() const;

@@ -20,7 +20,7 @@ class MetricsStage : public Stage {
   MetricsStage() {
     decl.name = "metrics";
     decl.scene = {""};
-    decl.options = {"preset", "render_spp", "denoise", "ground_truth"};
+    decl.options = {"preset", "eval_spp", "denoise", "ground_truth"};
     decl.after = {"export"};
     decl.writes = {"OUT/metrics.json"};
   }
@@ -28,7 +28,7 @@ class MetricsStage : public Stage {
   bool compute(Context& ctx, const Reads& in, int) override {
     const fs::path& out = in.out();
     eval::EvalOptions o;
-    o.spp = in.renderSpp();
+    o.spp = in.evalSpp();
     o.denoise = in.denoise();
     o.seed = in.seed();
     const eval::TwinEvaluation e = eval::evaluateTwin(out, in.evalScene(), o);

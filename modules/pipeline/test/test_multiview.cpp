@@ -276,6 +276,7 @@ TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
   o.maxFitIterations = 5;
   o.writeGltf = false;
   o.renderSpp = 8;
+  o.evalSpp = 8;
   o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
   const PipelineResult r = runPipeline(o);
   ASSERT_EQ(r.exposure.size(), 2u);

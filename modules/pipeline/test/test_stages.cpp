@@ -256,6 +256,10 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
        [](RunInputs& i, bool on) {
          i.options.renderSpp = on ? std::optional<int>(8) : std::nullopt;
        }},
+      {"eval_spp",
+       [](RunInputs& i, bool on) {
+         i.options.evalSpp = on ? std::optional<int>(4) : std::nullopt;
+       }},
       {"max_fit_iterations",
        [](RunInputs& i, bool on) {
          i.options.maxFitIterations = on ? std::optional<int>(3) : std::nullopt;
@@ -440,6 +444,7 @@ class StaleCache : public ::testing::Test {
     o.maxFitIterations = 2;
     o.textureSize = 16;
     o.renderSpp = 2;
+    o.evalSpp = 2;
     o.writeGltf = o.writeReport = false;
     return runPipeline(o);
   }

@@ -60,6 +60,7 @@ struct PipelineOptions {
   int workWidth = 320;                       ///< analysis resolution (photo scaled down to this width)
   double meanAlbedo = 0.5;                   ///< the scale pin (see above)
   std::optional<int> renderSpp;              ///< final renders; default by preset
+  std::optional<int> evalSpp;                ///< metrics' novel / relit renders; default by preset
   std::optional<int> maxFitIterations;       ///< caps the per-part iterations (tests)
   /// Selection by synthesis (select/synthesis.hpp): how many of the kNN vote's graphs are fitted
   /// briefly on the part, and how; default by preset.
