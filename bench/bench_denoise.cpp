@@ -4,11 +4,16 @@
 // The G-buffer-guided denoiser (ps::denoise) against raw path tracing at equal CPU time, on view
 // 0 of a twin (default: the bundled sample's ground-truth twin). The reference is a
 // --ref-spp render (default 4096, seed 4242) cached in REF.exr (rendered when the file is
-// missing). Rows: raw renders at --low and --high spp (seed 1), and the --low renders denoised
-// (G-buffer with center rays only + guides + filter, all counted in the time). Errors against the
-// reference: RMSE and SSIM in sRGB 0-255 (ps::eval, the evaluation's metrics), the view's
-// exposure applied as `photoscene render` does. Time: process CPU seconds (the machine is shared;
-// wall time is printed too). --png writes crops of noisy | denoised | reference.
+// missing; any linear image of the view's size will do, e.g. a Blender ground truth). Rows: raw
+// renders at --low and --high spp (seed 1); the --low renders denoised with guides from a
+// G-buffer (center rays; variance estimated from the image) and with the render's own guides
+// (PathTracer::render's DenoiseGuides: first-hit albedo, normal and depth averaged over the
+// pixel's samples, the variance of the pixel's mean), everything counted in the time; with
+// --adaptive, renders of at most --adaptive-spp samples stopped per pixel at each threshold
+// (RenderOptions::adaptiveThreshold), raw and denoised. Errors: RMSE and SSIM in sRGB 0-255
+// (ps::eval, the evaluation's metrics), the view's exposure applied as `photoscene render` does.
+// Time: process CPU seconds (wall time is printed too). --png writes crops of noisy | denoised
+// (the render's guides) | reference.
 #include <time.h>
 
 #include <chrono>
@@ -140,8 +145,8 @@ int main(int argc, char** argv) {
     }
 
     using ps::eval::ColorSpace;
-    std::printf("\n%dx%d, view 0 of %s; errors against the %d-spp reference, sRGB 0-255\n\n", width,
-                height, twinDir.c_str(), refSpp);
+    std::printf("\n%dx%d, view 0 of %s; errors against %s, sRGB 0-255\n\n", width, height,
+                twinDir.c_str(), refPath.c_str());
     std::printf("| image | CPU-s (render + G-buffer + denoise) | wall s | RMSE | SSIM |\n");
     std::printf("| --- | --- | --- | --- | --- |\n");
     cv::Mat firstNoisy, firstDenoised;
