@@ -258,21 +258,32 @@ Scene boxRoom(std::vector<PartMaterial>* mats) {
   return s;
 }
 
-TEST(Raytrace_PathTracer, box_room_finite_and_per_light_images_add_up) {
+// The box room, its path tracer and a w x h camera looking at the window wall.
+struct BoxRoomView {
   std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(48, 36, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  Scene scene;
+  PathTracer tracer;  // refers to scene and mats: the struct is neither copied nor moved
+  Camera cam;
+  BoxRoomView(int w, int h, double focal = 30)
+      : scene(boxRoom(&mats)),
+        tracer(scene, mats),
+        cam(makeCamera(w, h, focal, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8))) {}
+  BoxRoomView(const BoxRoomView&) = delete;
+  BoxRoomView& operator=(const BoxRoomView&) = delete;
+};
+
+TEST(Raytrace_PathTracer, box_room_finite_and_per_light_images_add_up) {
+  const BoxRoomView room(48, 36);
   RenderOptions opt;
   opt.spp = 48;
-  const cv::Mat full = tracer.render(cam, opt);
+  const cv::Mat full = room.tracer.render(room.cam, opt);
   ASSERT_TRUE(allFinite(full));
-  const std::vector<cv::Mat> per = tracer.renderPerLight(cam, opt);
+  const std::vector<cv::Mat> per = room.tracer.renderPerLight(room.cam, opt);
   ASSERT_EQ(per.size(), 3u);  // lamp, rect, environment
   cv::Mat sum(full.size(), CV_32FC3, cv::Scalar::all(0));
   for (int i = 0; i < 2; ++i) {
     ASSERT_TRUE(allFinite(per[i]));
-    const Vec3f r = *scene.lights.area[i].radiance;
+    const Vec3f r = *room.scene.lights.area[i].radiance;
     std::vector<cv::Mat> ch;
     cv::split(per[i], ch);
     for (int c = 0; c < 3; ++c) ch[c] *= r[c];
@@ -283,7 +294,7 @@ TEST(Raytrace_PathTracer, box_room_finite_and_per_light_images_add_up) {
   {
     std::vector<cv::Mat> ch;
     cv::split(per[2], ch);
-    for (int c = 0; c < 3; ++c) ch[c] *= scene.lights.environment->radiance[c];
+    for (int c = 0; c < 3; ++c) ch[c] *= room.scene.lights.environment->radiance[c];
     cv::Mat scaled;
     cv::merge(ch, scaled);
     sum += scaled;
@@ -335,22 +346,19 @@ TEST(Raytrace_PerLight, one_trace_equals_one_light_at_a_time_with_the_same_numbe
   // The per-light trace draws every number of light i's estimate as a render of light i alone
   // does: the images are the same, bit for bit (a contribution given to the wrong light, or a
   // MIS weight with the wrong selection probability, changes them).
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(48, 36, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  const BoxRoomView room(48, 36);
   RenderOptions opt;
   opt.spp = 8;
   opt.seed = 5;
   RenderStats stTogether;
-  const std::vector<cv::Mat> per = tracer.renderPerLight(cam, opt, &stTogether);
+  const std::vector<cv::Mat> per = room.tracer.renderPerLight(room.cam, opt, &stTogether);
   ASSERT_EQ(per.size(), 3u);  // lamp (part), rect, environment through the window
   uint64_t raysAlone = 0;
   for (int i = 0; i < 3; ++i) {
     RenderOptions o = opt;
     o.lights = LightSelection::one(i);
     RenderStats st;
-    const cv::Mat alone = tracer.render(cam, o, &st);
+    const cv::Mat alone = room.tracer.render(room.cam, o, &st);
     raysAlone += st.rays;
     ASSERT_TRUE(allFinite(per[i]));
     EXPECT_GT(cv::mean(alone)[1], 1e-4) << "light " << i;  // every light is seen
@@ -361,23 +369,20 @@ TEST(Raytrace_PerLight, one_trace_equals_one_light_at_a_time_with_the_same_numbe
 }
 
 TEST(Raytrace_PerLight, per_light_images_match_one_light_renders_and_add_up_within_noise) {
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(64, 48, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  const BoxRoomView room(64, 48);
   RenderOptions opt;
   opt.spp = 32;
   opt.seed = 1;
-  const std::vector<cv::Mat> per = tracer.renderPerLight(cam, opt);
+  const std::vector<cv::Mat> per = room.tracer.renderPerLight(room.cam, opt);
   ASSERT_EQ(per.size(), 3u);
-  const std::vector<Vec3f> scale = {*scene.lights.area[0].radiance, *scene.lights.area[1].radiance,
-                                    scene.lights.environment->radiance};
+  const std::vector<Vec3f> scale = {*room.scene.lights.area[0].radiance, *room.scene.lights.area[1].radiance,
+                                    room.scene.lights.environment->radiance};
   cv::Mat sum(per[0].size(), CV_32FC3, cv::Scalar::all(0));
   for (int i = 0; i < 3; ++i) {
     RenderOptions o = opt;
     o.seed = 2;  // independent of the per-light trace
     o.lights = LightSelection::one(i);
-    const cv::Mat alone = tracer.render(cam, o);
+    const cv::Mat alone = room.tracer.render(room.cam, o);
     EXPECT_LT(maxBlockZ(per[i], alone, 16), kMaxZ) << "light " << i;
     // the test sees a 10 % error in the lamp's and the environment's images (the small
     // rectangle's, 0.16 m^2 seen mostly through one bounce, is too noisy at 32 spp for that;
@@ -388,7 +393,7 @@ TEST(Raytrace_PerLight, per_light_images_match_one_light_renders_and_add_up_with
   // the all-lights render (lights picked by power: another estimator of the same image)
   RenderOptions o = opt;
   o.seed = 3;
-  const cv::Mat all = tracer.render(cam, o);
+  const cv::Mat all = room.tracer.render(room.cam, o);
   EXPECT_LT(maxBlockZ(sum, all, 16), kMaxZ);
   // ... and a light's image at another light's radiance is seen: the lamp's at the rect's
   cv::Mat wrong = scaled(per[0], scale[1]) + scaled(per[1], scale[1]) + scaled(per[2], scale[2]);
@@ -568,24 +573,26 @@ double srgbRmse(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv::Ma
   return n ? 255.0 * std::sqrt(s / n) : 0.0;
 }
 
+RenderOptions samples(int spp, uint64_t seed) {
+  RenderOptions o;
+  o.spp = spp;
+  o.seed = seed;
+  return o;
+}
+
 TEST(Raytrace_RenderGuides, the_render_gives_the_denoiser_guides_that_match_its_geometry) {
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(64, 48, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
-  RenderOptions opt;
-  opt.spp = 8;
-  opt.seed = 3;
+  const BoxRoomView room(64, 48);
+  const RenderOptions opt = samples(8, 3);
   DenoiseGuides g;
-  const cv::Mat img = tracer.render(cam, opt, nullptr, &g);
+  const cv::Mat img = room.tracer.render(room.cam, opt, nullptr, &g);
   // asking for the guides does not change the image
-  EXPECT_EQ(cv::norm(img, tracer.render(cam, opt), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(img, room.tracer.render(room.cam, opt), cv::NORM_INF), 0.0);
   ASSERT_EQ(g.albedo.size(), img.size());
   ASSERT_EQ(g.variance.type(), CV_32FC1);
   GBufferOptions go;
   go.coverageSamples = 4;
   go.passWindows = true;
-  const GBuffer gb = renderGBuffer(tracer, cam, go);
+  const GBuffer gb = renderGBuffer(room.tracer, room.cam, go);
   const int walls = 1;  // the room is closed but for the window: part -1 is seen through it
   int wallPixels = 0, windowPixels = 0;
   double windowAlbedo = 0;  // 1 where a sample sees no surface
@@ -606,7 +613,7 @@ TEST(Raytrace_RenderGuides, the_render_gives_the_denoiser_guides_that_match_its_
       if (part == walls) {
         ++wallPixels;
         const cv::Vec3f a = g.albedo.at<cv::Vec3f>(y, x);
-        const MaterialSample ms = mats[walls].evaluate(Vec2f(0, 0));
+        const MaterialSample ms = room.mats[walls].evaluate(Vec2f(0, 0));
         const Vec3f expected = ms.diffuseColor() + ms.f0();
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], expected[k], 1e-5);
         EXPECT_NEAR(z, gb.depth.at<float>(y, x), 0.02 * gb.depth.at<float>(y, x));
@@ -631,19 +638,16 @@ TEST(Raytrace_RenderGuides, the_variance_guide_is_the_variance_of_the_pixel_mean
   // guide estimates it from one render's samples as if they were independent (the Sobol
   // samples are stratified, so the true variance is lower: the guide errs on the safe side,
   // within a small factor). And it falls as 1 / spp.
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(32, 24, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
+  const BoxRoomView room(32, 24);
   RenderOptions opt;
   opt.spp = 16;
   const int seeds = 12;
   std::vector<cv::Mat> lum;
-  cv::Mat guideMean(cam.height(), cam.width(), CV_64FC1, cv::Scalar(0));
+  cv::Mat guideMean(room.cam.height(), room.cam.width(), CV_64FC1, cv::Scalar(0));
   for (int s = 0; s < seeds; ++s) {
     opt.seed = 100 + s;
     DenoiseGuides g;
-    const cv::Mat img = tracer.render(cam, opt, nullptr, &g);
+    const cv::Mat img = room.tracer.render(room.cam, opt, nullptr, &g);
     cv::Mat l(img.size(), CV_64FC1);
     for (int y = 0; y < img.rows; ++y)
       for (int x = 0; x < img.cols; ++x) {
@@ -656,8 +660,8 @@ TEST(Raytrace_RenderGuides, the_variance_guide_is_the_variance_of_the_pixel_mean
     guideMean += gv / seeds;
   }
   double empirical = 0, guide = 0;
-  for (int y = 0; y < cam.height(); ++y)
-    for (int x = 0; x < cam.width(); ++x) {
+  for (int y = 0; y < room.cam.height(); ++y)
+    for (int x = 0; x < room.cam.width(); ++x) {
       double m = 0, m2 = 0;
       for (const cv::Mat& l : lum) m += l.at<double>(y, x) / seeds;
       for (const cv::Mat& l : lum) m2 += std::pow(l.at<double>(y, x) - m, 2) / (seeds - 1);
@@ -671,28 +675,23 @@ TEST(Raytrace_RenderGuides, the_variance_guide_is_the_variance_of_the_pixel_mean
   opt.seed = 100;
   opt.spp = 64;
   DenoiseGuides g64;
-  tracer.render(cam, opt, nullptr, &g64);
+  room.tracer.render(room.cam, opt, nullptr, &g64);
   EXPECT_NEAR(cv::mean(g64.variance)[0] / cv::mean(guideMean)[0], 0.25, 0.08);
 }
 
 TEST(Raytrace_RenderGuides, denoised_low_spp_beats_raw_four_times_the_samples) {
   // The property at test size: 8 spp denoised with the render's own guides is closer to
   // a 1024-spp reference than 32 spp raw, on RMSE (sRGB 0-255) over the image.
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(96, 72, 40, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
-  RenderOptions opt;
-  opt.spp = 1024;
-  opt.seed = 4242;
-  const cv::Mat ref = tracer.render(cam, opt);
+  const BoxRoomView room(96, 72, 40);
+  RenderOptions opt = samples(1024, 4242);
+  const cv::Mat ref = room.tracer.render(room.cam, opt);
   opt.seed = 1;
   opt.spp = 8;
   DenoiseGuides g;
-  const cv::Mat noisy = tracer.render(cam, opt, nullptr, &g);
+  const cv::Mat noisy = room.tracer.render(room.cam, opt, nullptr, &g);
   const cv::Mat clean = denoise(g, noisy);
   opt.spp = 32;
-  const cv::Mat raw32 = tracer.render(cam, opt);
+  const cv::Mat raw32 = room.tracer.render(room.cam, opt);
   const double eNoisy = srgbRmse(noisy, ref), eClean = srgbRmse(clean, ref),
                e32 = srgbRmse(raw32, ref);
   EXPECT_LT(eClean, e32) << "raw 8: " << eNoisy << ", denoised 8: " << eClean << ", raw 32: " << e32;
@@ -700,21 +699,16 @@ TEST(Raytrace_RenderGuides, denoised_low_spp_beats_raw_four_times_the_samples) {
 }
 
 TEST(Raytrace_Adaptive, threshold_zero_is_the_plain_render_and_a_threshold_spends_fewer_samples) {
-  std::vector<PartMaterial> mats;
-  const Scene scene = boxRoom(&mats);
-  const PathTracer tracer(scene, mats);
-  const Camera cam = makeCamera(64, 48, 30, Vec3d(0.3, 1.4, 2.7), Vec3d(3.5, 1.0, 0.8));
-  RenderOptions opt;
-  opt.spp = 64;
-  opt.seed = 9;
+  const BoxRoomView room(64, 48);
+  RenderOptions opt = samples(64, 9);
   RenderStats plainStats, adaptiveStats;
-  const cv::Mat plain = tracer.render(cam, opt, &plainStats);
+  const cv::Mat plain = room.tracer.render(room.cam, opt, &plainStats);
   EXPECT_EQ(plainStats.samples, uint64_t(64) * 48 * 64);
   opt.adaptiveMinSpp = 16;
   opt.adaptiveThreshold = 0.0f;  // off
-  EXPECT_EQ(cv::norm(plain, tracer.render(cam, opt), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(plain, room.tracer.render(room.cam, opt), cv::NORM_INF), 0.0);
   opt.adaptiveThreshold = 0.1f;
-  const cv::Mat adaptive = tracer.render(cam, opt, &adaptiveStats);
+  const cv::Mat adaptive = room.tracer.render(room.cam, opt, &adaptiveStats);
   ASSERT_TRUE(allFinite(adaptive));
   EXPECT_LT(adaptiveStats.samples, plainStats.samples * 3 / 4);
   EXPECT_GE(adaptiveStats.samples, uint64_t(64) * 48 * 16);
@@ -726,10 +720,10 @@ TEST(Raytrace_Adaptive, threshold_zero_is_the_plain_render_and_a_threshold_spend
   ro.adaptiveThreshold = 0;
   ro.spp = 1024;
   ro.seed = 4242;
-  const cv::Mat ref = tracer.render(cam, ro);
+  const cv::Mat ref = room.tracer.render(room.cam, ro);
   ro.seed = 9;
   ro.spp = static_cast<int>(adaptiveStats.samples / (64 * 48));
-  const cv::Mat uniform = tracer.render(cam, ro);
+  const cv::Mat uniform = room.tracer.render(room.cam, ro);
   EXPECT_LT(srgbRmse(adaptive, ref), srgbRmse(uniform, ref))
       << ro.spp << " spp uniform against adaptive with the same samples";
   std::string err;
