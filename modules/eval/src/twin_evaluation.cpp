@@ -285,6 +285,7 @@ TwinEvaluation evaluateTwin(const fs::path& outDir, const fs::path& scenePath,
         exposed.release();
       } else {
         vs.render = "renders/view" + std::to_string(i) + ".exr";
+        spdlog::info("eval: view {}: {} scored as written (not rendered again)", i, vs.render);
       }
     }
     if (exposed.empty()) {

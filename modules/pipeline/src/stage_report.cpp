@@ -32,6 +32,10 @@ class MetricsStage : public Stage {
     o.denoise = in.denoise();
     o.seed = in.seed();
     const eval::TwinEvaluation e = eval::evaluateTwin(out, in.evalScene(), o);
+    for (const std::string& n : e.notes) spdlog::info("metrics: {}", n);
+    if (e.novel.empty() && e.relit.empty())
+      spdlog::info("metrics: no novel or relit ground truth next to the scene: nothing rendered "
+                   "for them");
     std::map<std::string, double> seconds;
     for (const StageRecord& r : ctx.result.stages) seconds[r.name] = r.seconds;
     seconds["metrics"] = e.seconds;
