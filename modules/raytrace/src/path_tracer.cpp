@@ -634,12 +634,12 @@ std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights
             }
             if (options.clampSample > 0) c = c.cwiseMin(options.clampSample);
             sum[k] += c;
-          }
-          if (adaptive || features) {
-            const double l = luminance(sample[0].allFinite() ? sample[0] : Vec3f::Zero());
-            const double delta = l - lumMean;
-            lumMean += delta / n;
-            lumM2 += delta * (l - lumMean);
+            if (k == 0 && (adaptive || features)) {  // the value the mean is made of
+              const double l = luminance(c);
+              const double delta = l - lumMean;
+              lumMean += delta / n;
+              lumM2 += delta * (l - lumMean);
+            }
           }
           if (features) {
             albedoSum += fh.albedo;
