@@ -118,6 +118,7 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.homogeneous)
           .add(s.textureMargin)
           .add(s.maxPixelErrorRatio)
+          .add(s.maxContrastRatio)
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit);
     } else {

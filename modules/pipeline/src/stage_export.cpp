@@ -151,7 +151,12 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
                                            {"category", f.category},
                                            {"vote", f.vote},
                                            {"loss", f.loss},
+                                           {"pixel_rmse", f.pixelRmse},
+                                           {"contrast", f.contrast},
+                                           {"qualifies", f.qualifies},
                                            {"seconds", f.seconds}});
+      if (!p.finalists.empty()) m.fitExtra["photo_contrast"] = p.photoContrast;
+      if (!p.textureRejected.empty()) m.fitExtra["texture_rejected"] = p.textureRejected;
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
       if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());
     } else {

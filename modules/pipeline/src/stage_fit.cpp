@@ -6,12 +6,17 @@
 #include <spdlog/spdlog.h>
 
 #include "photoscene/core.hpp"
+#include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/io.hpp"
+#include "photoscene/select/synthesis.hpp"
 #include "stages.hpp"
 
 namespace ps::pipeline {
 
 namespace {
+
+// fewer pixels with their whole contrast window in the part: its median says little (as select)
+constexpr int kMinContrastPixels = 64;
 
 // The fit's version: 2 = the spectral UV prior and `balanced` at 100 steps; 3 = the
 // full-resolution steps after the coarse phase at a quarter of the learning rate; 4 = `balanced`
@@ -21,8 +26,10 @@ namespace {
 // (optim/roughness_prior.hpp); 8 = the start: the synthesis winner's short fit when select
 // leaves one (SynthesisOptions::warmStartFit; PartWork::startValues, startUv), else the graph's
 // defaults; 9 = a homogeneous part's
-// roughness from highlights only, else the prior's centre (HomogeneousRoughness).
-constexpr uint64_t kFitVersion = 9;
+// roughness from highlights only, else the prior's centre (HomogeneousRoughness); 10 = a fitted
+// texture with more typical local contrast than maxContrastRatio x the photo's is rejected for
+// the homogeneous material (PartWork::textureRejected).
+constexpr uint64_t kFitVersion = 10;
 
 class FitStage : public Stage {
  public:
@@ -31,16 +38,75 @@ class FitStage : public Stage {
     decl.unit = Unit::Part;
     decl.version = kFitVersion;
     decl.scene = {"views[].camera", "views[].image", "views[].color_space", "options.seed"};
-    decl.options = {"preset", "max_fit_iterations", "library", "work_width", "fit_views"};
+    decl.options = {"preset", "max_fit_iterations", "library", "work_width", "fit_views",
+                    "selection"};
     decl.after = {"geometry", "align", "observe", "select", "incident0"};
     decl.writes = {
         "PartWork: values, uv, roughness, roughnessScale, albedo, loss, seconds, iterations, "
-        "history"};
+        "history, textureRejected; PartMode::Homogeneous where the texture is rejected"};
     decl.parallel = true;
   }
 
   bool applies(const Context& ctx, int u) const override {
     return ctx.parts[u].mode == PartMode::Fit || ctx.parts[u].mode == PartMode::Homogeneous;
+  }
+
+  // The graph's fit; false when cancelled. Sets *homogeneous when the fitted texture is rejected
+  // (the part is then fitted as homogeneous).
+  bool fitTexture(const Reads& in, PartWork& p, const PartGeometry& geo, const cv::Mat& photo,
+                  const cv::Mat& mask, bool* homogeneous) const {
+    PartFitOptions o = in.fitOptions();
+    o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
+    if (const auto cap = in.maxFitIterations()) o.maxIterations = std::min(o.maxIterations, *cap);
+    // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
+    o.onProgress = [](const PartFitProgress&) { return !interruptRequested(); };
+    const TextureLossTarget target(photo, mask);
+    // from the synthesis winner's short fit when select left one (same graph), else from the
+    // graph's defaults
+    MaterialGraph graph = in.library().create(p.graph);
+    UvParams startUv;
+    if (!p.startValues.empty() && p.startValues.size() == graph.values().size()) {
+      graph.setValues(p.startValues);
+      startUv = p.startUv;
+    }
+    const PartFitResult r = fitPart(graph, geo, photo, target, o, startUv);
+    if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
+    // texture only where the photo shows one: a fitted render with more structure than the photo
+    // almost everywhere (typical local contrast above maxContrastRatio x the photo's, as
+    // select's synthesis tests its short fits) is not the photo's texture; the full fit can
+    // drift there from a short fit that passed
+    const SynthesisOptions selection = in.synthesisOptions();
+    if (selection.maxContrastRatio > 0) {
+      const LocalContrast photoContrast = typicalLocalContrast(photo, mask);
+      const double fitted = typicalLocalContrast(r.render, mask).median;
+      if (photoContrast.pixels >= kMinContrastPixels &&
+          fitted > selection.maxContrastRatio * photoContrast.median) {
+        spdlog::info("fit {}: {} rejected: its render's typical local contrast {:.3f} is above {} x "
+                     "the photo's {:.3f}; homogeneous instead",
+                     p.name, p.graph, fitted, selection.maxContrastRatio, photoContrast.median);
+        p.textureRejected = p.graph;
+        p.values.clear();
+        p.mode = PartMode::Homogeneous;
+        *homogeneous = true;
+        return true;
+      }
+    }
+    if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
+      // photo over the fitted mask | the fit's render, for looking at what the fit did
+      cv::Mat masked = cv::Mat::zeros(photo.size(), CV_32FC3), side;
+      photo.copyTo(masked, mask);
+      cv::hconcat(masked, r.render, side);
+      fs::create_directories(debug);
+      io::writeImage(fs::path(debug) / ("fit-" + p.name + ".png"), side);
+    }
+    p.values = r.values;
+    p.uv = r.uv;
+    p.roughness = r.roughness;
+    p.roughnessScale = r.roughnessScale;
+    p.loss = r.loss;
+    p.iterations = r.iterations;
+    p.history = r.history;
+    return true;
   }
 
   bool compute(Context& ctx, const Reads& in, int u) override {
@@ -52,7 +118,10 @@ class FitStage : public Stage {
     const cv::Mat& mask = view.fitMask.at(p.id);
     const PartGeometry geo = preparePartGeometry(
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
-    if (p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels) {
+    p.textureRejected.clear();
+    bool homogeneous = p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels;
+    if (!homogeneous && !fitTexture(in, p, geo, photo, mask, &homogeneous)) return false;
+    if (homogeneous) {
       const HomogeneousFit f =
           p.mode == PartMode::Homogeneous
               ? fitHomogeneousPart(ctx, in, p, geo, photo, in.budget().refineCandidates)
@@ -65,38 +134,6 @@ class FitStage : public Stage {
       p.loss = f.loss;
       p.iterations = 0;
       p.history.clear();
-    } else {
-      PartFitOptions o = in.fitOptions();
-      o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
-      if (const auto cap = in.maxFitIterations()) o.maxIterations = std::min(o.maxIterations, *cap);
-      // Ctrl-C stops a fit between two steps (a `paper` fit of one part runs for minutes)
-      o.onProgress = [](const PartFitProgress&) { return !interruptRequested(); };
-      const TextureLossTarget target(photo, mask);
-      // from the synthesis winner's short fit when select left one (same graph), else from the
-      // graph's defaults
-      MaterialGraph graph = in.library().create(p.graph);
-      UvParams startUv;
-      if (!p.startValues.empty() && p.startValues.size() == graph.values().size()) {
-        graph.setValues(p.startValues);
-        startUv = p.startUv;
-      }
-      const PartFitResult r = fitPart(graph, geo, photo, target, o, startUv);
-      if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
-      if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug) {
-        // photo over the fitted mask | the fit's render, for looking at what the fit did
-        cv::Mat masked = cv::Mat::zeros(photo.size(), CV_32FC3), side;
-        photo.copyTo(masked, mask);
-        cv::hconcat(masked, r.render, side);
-        fs::create_directories(debug);
-        io::writeImage(fs::path(debug) / ("fit-" + p.name + ".png"), side);
-      }
-      p.values = r.values;
-      p.uv = r.uv;
-      p.roughness = r.roughness;
-      p.roughnessScale = r.roughnessScale;
-      p.loss = r.loss;
-      p.iterations = r.iterations;
-      p.history = r.history;
     }
     p.seconds = timer.seconds();
     spdlog::info("fit {}: {} ({}), loss {:.4f}, {} iterations, {:.1f} s", p.name, p.graph,
@@ -113,6 +150,7 @@ class FitStage : public Stage {
     a.put(p.seconds);
     a.put<int32_t>(p.iterations);
     a.putVector(p.history);
+    a.putString(p.textureRejected);
   }
   bool load(Context& ctx, const Reads&, int u, Archive& a) override {
     PartWork& p = ctx.parts[u];
@@ -128,6 +166,7 @@ class FitStage : public Stage {
     p.seconds = a.get<double>();
     p.iterations = a.get<int32_t>();
     p.history = a.getVector<double>();
+    p.textureRejected = a.getString();
     return true;
   }
   // a part fitted as homogeneous (too few pixels) has no graph values: the mode follows the

@@ -26,8 +26,9 @@ class IncidentStage : public Stage {
       decl.after.insert(decl.after.end(), {"select", "fit", "refine0", "lights1"});
     }
     // 2: grid points only on the parts fitted in the view; 3: paths from a grid point get one
-    // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp)
-    decl.version = 3;
+    // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp); 4: the
+    // direct light also by light sampling, combined by MIS (IncidentLightOptions::directSamples)
+    decl.version = 4;
     decl.writes = {"ViewWork::grid"};
   }
 

@@ -26,8 +26,10 @@ class SelectStage : public Stage {
     // synthesis (fit.finalists); 4: finalists start from their nearest draw; 5: the winner's
     // short fit is where the fit starts (PartWork::startValues, startUv); 6: the homogeneous
     // finalist's roughness from highlights only (HomogeneousRoughness); 7: a textured winner's
-    // pixel error at most maxPixelErrorRatio x the homogeneous finalist's
-    decl.version = 7;
+    // pixel error at most maxPixelErrorRatio x the homogeneous finalist's; 8: a textured
+    // winner's typical local contrast at most maxContrastRatio x the photo's, and the best
+    // textured finalist that passes both tests is the one weighed against homogeneous
+    decl.version = 8;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -41,6 +43,7 @@ class SelectStage : public Stage {
     p.runnersUp.clear();
     p.candidates.clear();
     p.finalists.clear();
+    p.photoContrast = 0;
     p.startValues.clear();
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
@@ -81,8 +84,10 @@ class SelectStage : public Stage {
               chooseBySynthesis(in.library(), c.votes, geo, part, TextureLossTarget(part, fit), o,
                                 synthesis, &bank_->options());
           if (!s.graph.empty()) p.graph = s.graph;
+          p.photoContrast = s.photoContrast;
           for (const SynthesisFinalist& f : s.finalists) {
-            p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds});
+            p.finalists.push_back(
+                {f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.qualifies});
             // the fit goes on from the winner's short fit instead of starting over
             if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
                 p.startValues.empty()) {
@@ -123,8 +128,10 @@ class SelectStage : public Stage {
     for (const PartWork::Finalist& f : p.finalists) {
       a.putString(f.graph);
       a.putString(f.category);
-      for (double x : {f.vote, f.loss, f.seconds}) a.put(x);
+      for (double x : {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast}) a.put(x);
+      a.put<uint8_t>(f.qualifies ? 1 : 0);
     }
+    a.put(p.photoContrast);
     a.putVector(p.startValues);
     for (float f : {p.startUv.rotation, p.startUv.logScale, p.startUv.offset.x(),
                     p.startUv.offset.y()})
@@ -151,7 +158,11 @@ class SelectStage : public Stage {
       f.vote = a.get<double>();
       f.loss = a.get<double>();
       f.seconds = a.get<double>();
+      f.pixelRmse = a.get<double>();
+      f.contrast = a.get<double>();
+      f.qualifies = a.get<uint8_t>() != 0;
     }
+    p.photoContrast = a.get<double>();
     p.startValues = a.getVector<float>();
     p.startUv.rotation = a.get<float>();
     p.startUv.logScale = a.get<float>();

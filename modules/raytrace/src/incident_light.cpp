@@ -13,6 +13,11 @@ int IncidentLightGrid::pixelY(int gy, int imageHeight) const {
 }
 
 namespace {
+// the power heuristic's weight of a strategy of density a against one of density b
+float powerHeuristicWeight(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
+}
 Vec3f localDir(float cosT, float phi) {
   const float sinT = std::sqrt(std::max(0.0f, 1 - cosT * cosT));
   return Vec3f(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
@@ -49,7 +54,8 @@ Vec3f IncidentLightGrid::shade(int gx, int gy, const MicrofacetBsdf& bsdf, const
 
 IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gb,
                                        const Camera& camera, const IncidentLightOptions& o) {
-  PS_Check(o.stride >= 1 && o.thetaBins >= 1 && o.phiBins >= 1 && o.samplesPerBin >= 1,
+  PS_Check(o.stride >= 1 && o.thetaBins >= 1 && o.phiBins >= 1 && o.samplesPerBin >= 1 &&
+               o.directSamples >= 0,
            "bad incident-light options");
   PS_CheckEQ(gb.partId.cols, camera.width(), "G-buffer and camera sizes differ");
   PS_CheckEQ(gb.partId.rows, camera.height(), "G-buffer and camera sizes differ");
@@ -99,6 +105,27 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
     g.frameN[k] = N;
     const Vec3f org = P + Ng * (2e-5f * (1.0f + P.cwiseAbs().maxCoeff()));
     Rng rng = base.split(static_cast<uint64_t>(k));
+    // direct light by multiple importance sampling: the bins' uniform directions have density
+    // samplesPerBin / binSolidAngle per steradian, each light `directSamples` samples of its pdf
+    const float binOmega = g.binSolidAngle();
+    const int M = o.render.nextEventEstimation ? o.directSamples : 0;
+    const float firstPdf = M > 0 ? o.samplesPerBin / binOmega / M : 0.0f;
+    std::vector<Vec3f> direct;
+    if (M > 0) {
+      direct.assign(static_cast<size_t>(o.thetaBins) * o.phiBins, Vec3f::Zero());
+      Rng lightRng = rng.split(0x11e7u);
+      for (const DirectLightSample& s : tracer.sampleDirectLight(P, org, Ng, M, afterFirst, lightRng)) {
+        const Vec3f l(s.wi.dot(T), s.wi.dot(B), s.wi.dot(N));
+        if (l.z() <= 0 || s.wi.dot(Ng) <= 0) continue;  // the bins cover the shading hemisphere
+        const int bi = std::min(o.thetaBins - 1, static_cast<int>((1.0f - l.z()) * o.thetaBins));
+        float phi = std::atan2(l.y(), l.x());
+        if (phi < 0) phi += 2 * kPi;
+        const int bj = std::min(o.phiBins - 1, static_cast<int>(phi / (2 * kPi) * o.phiBins));
+        const float w = s.delta ? 1.0f : powerHeuristicWeight(s.pdf, firstPdf);
+        const Vec3f c = s.Le * (w / (M * s.pdf * binOmega));
+        if (c.allFinite()) direct[static_cast<size_t>(bi) * o.phiBins + bj] += c;
+      }
+    }
     for (int i = 0; i < o.thetaBins; ++i)
       for (int j = 0; j < o.phiBins; ++j) {
         Vec3f sum = Vec3f::Zero();
@@ -112,14 +139,15 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
             ++used;
             continue;
           }
-          const Vec3f L = tracer.radiance(org, dir, afterFirst, rng);
+          const Vec3f L = tracer.radiance(org, dir, afterFirst, rng, nullptr, firstPdf);
           if (L.allFinite()) {
             sum += L;
             ++used;
           }
         }
         g.radiance[(k * o.thetaBins + i) * o.phiBins + j] =
-            used ? Vec3f(sum / used) : Vec3f::Zero();
+            (used ? Vec3f(sum / used) : Vec3f::Zero()) +
+            (direct.empty() ? Vec3f::Zero() : direct[static_cast<size_t>(i) * o.phiBins + j]);
       }
   });
   return g;

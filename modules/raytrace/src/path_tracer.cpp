@@ -319,12 +319,23 @@ struct Tracer final : LightRays {
     return ls->Le.maxCoeff() > 0;
   }
 
-  // The light-sampling pdf at x (selection included) of light i for a ray that found it.
-  float lightPdf(int i, const Vec3f& x, const LightHit& hit) const {
+  // The light-sampling pdf at x (selection included) of light i for a ray that found it;
+  // `alone`: as sampled on its own (selection probability 1, PathTracer::sampleDirectLight).
+  float lightPdf(int i, const Vec3f& x, const LightHit& hit, bool alone = false) const {
     LightSampleContext ctx;
     ctx.p = x;
-    ctx.selectionPdf = act.selectPdf(i);
+    ctx.selectionPdf = alone ? 1.0f : act.selectPdf(i);
     return L.lights[i]->pdfLi(ctx, hit);
+  }
+
+  // The MIS weight of emission from light i found by the ray leaving prevPos: on the first ray,
+  // against sampleDirectLight's samples when the caller gave the first ray's density (firstPdf),
+  // else 1; later, against next-event estimation from the last vertex.
+  float emissionWeight(int i, int depth, float firstPdf, float prevPdf, bool neeOn,
+                       const Vec3f& prevPos, const LightHit& lh) const {
+    if (depth == 0)
+      return firstPdf > 0 ? powerHeuristic(firstPdf, lightPdf(i, prevPos, lh, true)) : 1.0f;
+    return neeOn && prevPdf > 0 ? powerHeuristic(prevPdf, lightPdf(i, prevPos, lh)) : 1.0f;
   }
 
   // Sample dimensions: 2D 0 is the pixel position; bounce b uses 1D dimensions 4b .. 4b + 2
@@ -336,7 +347,7 @@ struct Tracer final : LightRays {
   // samples of each light to that light); the return value is then their sum.
   template <class Sampler>
   Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp, Vec3f* perLight = nullptr,
-             FirstHit* first = nullptr) {
+             FirstHit* first = nullptr, float firstPdf = 0) {
     Vec3f Lsum = Vec3f::Zero(), beta = Vec3f::Ones();
     auto add = [&](int light, const Vec3f& c) {
       Lsum += c;
@@ -360,9 +371,8 @@ struct Tracer final : LightRays {
           lh.dir = dir;
           lh.escape = esc;
           const Vec3f Le = L.lights[i]->L(lh).cwiseProduct(act.scale[i]);
-          const float w = (depth == 0 || !neeFor(i) || prevPdf <= 0)
-                              ? 1.0f
-                              : powerHeuristic(prevPdf, lightPdf(i, prevPos, lh));
+          // infinite lights are not in sampleDirectLight: the first ray alone finds them
+          const float w = emissionWeight(i, depth, 0.0f, prevPdf, neeFor(i), prevPos, lh);
           add(i, beta.cwiseProduct(Le) * w);
         }
         break;
@@ -377,9 +387,8 @@ struct Tracer final : LightRays {
         lh.primitive = em.prim;
         const Vec3f Le = L.lights[em.light]->L(lh).cwiseProduct(act.scale[em.light]);
         if (Le.maxCoeff() > 0) {
-          float w = 1.0f;
-          if (depth > 0 && neeFor(em.light) && prevPdf > 0)
-            w = powerHeuristic(prevPdf, lightPdf(em.light, prevPos, lh));
+          const float w =
+              emissionWeight(em.light, depth, firstPdf, prevPdf, neeFor(em.light), prevPos, lh);
           add(em.light, beta.cwiseProduct(Le) * w);
         }
       }
@@ -557,13 +566,40 @@ ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L,
 }  // namespace
 
 Vec3f PathTracer::radiance(const Vec3f& org, const Vec3f& dir, const RenderOptions& options,
-                           Rng& rng, uint64_t* rays) const {
+                           Rng& rng, uint64_t* rays, float firstPdf) const {
   const ActiveLights act = makeActive(scene_, *lights_, options.lights);
   Tracer tr{*this, *lights_, act, options, *accel_};
   const IndependentSampler smp(rng);
-  Vec3f L = tr.path(org, dir.normalized(), smp);
+  Vec3f L = tr.path(org, dir.normalized(), smp, nullptr, nullptr,
+                    options.nextEventEstimation ? firstPdf : 0.0f);
   if (rays) *rays += tr.rays;
   return L.allFinite() ? L : Vec3f::Zero();
+}
+
+std::vector<DirectLightSample> PathTracer::sampleDirectLight(const Vec3f& p, const Vec3f& org,
+                                                             const Vec3f& ng, int n,
+                                                             const RenderOptions& options, Rng& rng,
+                                                             uint64_t* rays) const {
+  std::vector<DirectLightSample> out;
+  if (n < 1 || !options.nextEventEstimation) return out;
+  const ActiveLights act = makeActive(scene_, *lights_, options.lights);
+  Tracer tr{*this, *lights_, act, options, *accel_};
+  std::vector<uint8_t> infinite(act.on.size(), 0);
+  for (int i : lights_->infinite) infinite[i] = 1;
+  for (size_t i = 0; i < act.on.size(); ++i) {
+    if (!act.on[i] || infinite[i]) continue;
+    for (int k = 0; k < n; ++k) {
+      // stratified in the light's first dimension, independent in the other two
+      const float u = (k + rng.uniform()) / n;
+      const Vec2f uPt(rng.uniform(), rng.uniform());
+      Tracer::LightSample ls;
+      if (!tr.sampleVisible(static_cast<int>(i), 1.0f, p, org, ng, u, uPt, &ls)) continue;
+      if (!(ls.pdf > 0) || !ls.Le.allFinite()) continue;
+      out.push_back({ls.wi, ls.Le, ls.pdf, ls.delta});
+    }
+  }
+  if (rays) *rays += tr.rays;
+  return out;
 }
 
 namespace {

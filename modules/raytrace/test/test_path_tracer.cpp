@@ -558,6 +558,70 @@ TEST(Raytrace_IncidentLight, furnace_grid_is_constant_and_shades_lambert_exactly
 }
 
 
+TEST(Raytrace_IncidentLight, light_sampling_lowers_the_grids_noise_without_bias) {
+  // The box room's lamps are small: a bin's few path samples find them or not, and the shading
+  // a grid point gives varies from seed to seed (and so from point to point: blotches). Sampling
+  // the lamps as well (MIS) must keep the expectation and cut that spread.
+  const BoxRoomView room(48, 36);
+  const GBuffer gb = renderGBuffer(room.tracer, room.cam, {1});
+  const MicrofacetBsdf white(Vec3f::Constant(1.0f), Vec3f::Zero(), 1.0f);
+  const int seeds = 6;
+  auto shading = [&](int directSamples) {
+    std::vector<std::vector<double>> perPoint;  // [point][seed] shaded luminance
+    for (int s = 0; s < seeds; ++s) {
+      IncidentLightOptions o;
+      o.stride = 4;
+      o.samplesPerBin = 2;
+      o.directSamples = directSamples;
+      o.render.seed = 17 + s;
+      const IncidentLightGrid g = computeIncidentLight(room.tracer, gb, room.cam, o);
+      perPoint.resize(g.valid.size());
+      for (int gy = 0; gy < g.height; ++gy)
+        for (int gx = 0; gx < g.width; ++gx) {
+          const size_t k = static_cast<size_t>(gy) * g.width + gx;
+          if (!g.valid[k]) continue;
+          const Vec3f Lo = g.shade(gx, gy, white, Vec3f(0, 0, 1), 1);
+          EXPECT_TRUE(Lo.allFinite());
+          perPoint[k].push_back(luminance(Lo));
+        }
+    }
+    return perPoint;
+  };
+  const auto paths = shading(0), mis = shading(32);
+  double meanPaths = 0, meanMis = 0, relPaths = 0, relMis = 0;
+  int points = 0;
+  auto stats = [](const std::vector<double>& v, double* mean, double* sd) {
+    *mean = 0;
+    for (double x : v) *mean += x / v.size();
+    double q = 0;
+    for (double x : v) q += (x - *mean) * (x - *mean);
+    *sd = std::sqrt(q / (v.size() - 1));
+  };
+  for (size_t k = 0; k < paths.size(); ++k) {
+    if (paths[k].size() != static_cast<size_t>(seeds)) continue;
+    ASSERT_EQ(mis[k].size(), paths[k].size());
+    double m0, s0, m1, s1;
+    stats(paths[k], &m0, &s0);
+    stats(mis[k], &m1, &s1);
+    if (m0 <= 0) continue;
+    meanPaths += m0;
+    meanMis += m1;
+    relPaths += s0 / m0;
+    relMis += s1 / std::max(m1, 1e-9);
+    ++points;
+  }
+  ASSERT_GT(points, 50);
+  relPaths /= points;
+  relMis /= points;
+  std::printf("grid points %d: mean shading %.4f (paths) %.4f (MIS); spread over seeds %.1f %% "
+              "-> %.1f %%\n",
+              points, meanPaths / points, meanMis / points, 100 * relPaths, 100 * relMis);
+  // the same light on average (the paths' own noise over 6 x ~100 points: about 1 %)
+  EXPECT_NEAR(meanMis / meanPaths, 1.0, 0.03);
+  // and far less noise
+  EXPECT_LT(relMis, 0.5 * relPaths);
+}
+
 // sRGB 0-255 RMSE (what the evaluation scores), over pixels where mask is set (all if empty).
 double srgbRmse(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv::Mat()) {
   const cv::Mat sa = linearToSrgb(a, CV_32F), sb = linearToSrgb(b, CV_32F);

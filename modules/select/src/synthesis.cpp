@@ -8,12 +8,15 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/timer.hpp"
+#include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/optim/homogeneous_fit.hpp"
 
 namespace ps {
 
 namespace {
 constexpr const char* kHomogeneous = "homogeneous";
+// fewer pixels with their whole contrast window in the part: its median says little
+constexpr int kMinContrastPixels = 64;
 
 /// RMSE over `pixels` of two CV_32FC3 images, all channels (0 for no pixel or no render).
 double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Point>& pixels) {
@@ -41,6 +44,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "textureMargin must be in [0, 1), got " << textureMargin;
   else if (!(maxPixelErrorRatio >= 0))
     os << "maxPixelErrorRatio must be >= 0, got " << maxPixelErrorRatio;
+  else if (!(maxContrastRatio >= 0))
+    os << "maxContrastRatio must be >= 0, got " << maxContrastRatio;
   if (error) *error = os.str();
   return os.str().empty();
 }
@@ -96,6 +101,13 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
         f.draw = v.nearestDraw;
       }
   }
+  // the part's mask (the geometry's pixels) and the photo's typical local contrast over it
+  cv::Mat partMask = cv::Mat::zeros(photo.size(), CV_8UC1);
+  for (const cv::Point& q : geometry.pixels) partMask.at<uint8_t>(q) = 255;
+  const LocalContrast photoContrast = options.maxContrastRatio > 0
+                                          ? typicalLocalContrast(photo, partMask)
+                                          : LocalContrast{};
+  out.photoContrast = photoContrast.median;
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
     PartFitOptions o = fit;
@@ -123,25 +135,36 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     f.fit = fitPart(graph, geometry, photo, target, o);
     f.loss = f.fit.loss;
     f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
+    if (options.maxContrastRatio > 0) f.contrast = typicalLocalContrast(f.fit.render, partMask).median;
     f.seconds = t.seconds();
   });
   std::stable_sort(
       out.finalists.begin(), out.finalists.end(),
       [](const SynthesisFinalist& a, const SynthesisFinalist& b) { return a.loss < b.loss; });
-  // the winner: the best textured finalist unless the homogeneous material is within the margin
+  // the winner: the best textured finalist that passes the pixel-error and contrast tests,
+  // unless the homogeneous material is within the margin of its loss
   const auto homogeneous =
       std::find_if(out.finalists.begin(), out.finalists.end(),
                    [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
+  // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
+  const bool contrastTest = options.maxContrastRatio > 0 && photoContrast.pixels >= kMinContrastPixels;
+  for (SynthesisFinalist& f : out.finalists) {
+    if (f.graph == kHomogeneous || homogeneous == out.finalists.end()) continue;
+    const bool pixelsOk = options.maxPixelErrorRatio <= 0 ||
+                          f.pixelRmse <= options.maxPixelErrorRatio * homogeneous->pixelRmse;
+    const bool contrastOk =
+        !contrastTest || f.contrast <= options.maxContrastRatio * photoContrast.median;
+    f.qualifies = pixelsOk && contrastOk;
+  }
   const auto textured =
-      std::find_if(out.finalists.begin(), out.finalists.end(),
-                   [](const SynthesisFinalist& f) { return f.graph != kHomogeneous; });
+      std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {
+        return f.graph != kHomogeneous && f.qualifies;
+      });
   const SynthesisFinalist* win = nullptr;
   if (textured == out.finalists.end())
     win = homogeneous == out.finalists.end() ? nullptr : &*homogeneous;
   else if (homogeneous == out.finalists.end() ||
-           (textured->loss < (1 - options.textureMargin) * homogeneous->loss &&
-            (options.maxPixelErrorRatio <= 0 ||
-             textured->pixelRmse <= options.maxPixelErrorRatio * homogeneous->pixelRmse)))
+           textured->loss < (1 - options.textureMargin) * homogeneous->loss)
     win = &*textured;
   else
     win = &*homogeneous;

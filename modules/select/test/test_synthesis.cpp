@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <opencv2/imgproc.hpp>
+
 #include "photoscene/graph.hpp"
 #include "photoscene/optim.hpp"
 #include "photoscene/select/synthesis.hpp"
@@ -92,13 +94,15 @@ Part renderFloor(const MaterialMaps* maps) {
 /// chooseBySynthesis on the floor with `shortlist` graphs of the vote, `steps` steps, maps of 64.
 SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
                        int shortlist, int steps = 10,
-                       double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio) {
+                       double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio,
+                       double maxContrastRatio = SynthesisOptions{}.maxContrastRatio) {
   PartFitOptions fit = PartFitOptions::preset("fast");
   fit.mapSize = 64;
   SynthesisOptions o;
   o.shortlist = shortlist;
   o.steps = steps;
   o.maxPixelErrorRatio = maxPixelErrorRatio;
+  o.maxContrastRatio = maxContrastRatio;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -162,6 +166,37 @@ TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {
     EXPECT_TRUE(std::isfinite(f.loss)) << f.graph;
     std::printf("  %-20s loss %.4f\n", f.graph.c_str(), f.loss);
   }
+}
+
+TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contrast_texture) {
+  // A plain floor with things lying on it (a dark mat's outline, a bright strip): the loss's
+  // mean subband energies see texture, the typical local contrast sees a plain floor
+  const GraphLibrary lib = GraphLibrary::load();
+  Part s = renderFloor(nullptr);
+  cv::Rect box = cv::boundingRect(s.mask);
+  const cv::Scalar dark(0.01, 0.01, 0.01), bright(0.9, 0.85, 0.8);
+  cv::rectangle(s.photo, cv::Rect(box.x + box.width / 5, box.y + box.height / 4, box.width / 3, box.height / 3),
+                dark, 2);
+  cv::line(s.photo, cv::Point(box.x + box.width / 2, box.y + box.height * 3 / 4),
+           cv::Point(box.x + box.width * 9 / 10, box.y + box.height * 3 / 5), bright, 3);
+  const std::vector<GraphVote> votes = {vote("tile_checker", "tile", 3),
+                                        vote("wood_planks", "wood", 2)};
+  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0);
+  const SynthesisChoice on = choose(lib, s, votes, 2, 10, 0);
+  std::printf("photo contrast %.4f; without the test: %s\n", on.photoContrast, off.graph.c_str());
+  for (const SynthesisFinalist& f : on.finalists) {
+    EXPECT_TRUE(std::isfinite(f.contrast)) << f.graph;
+    std::printf("  %-14s loss %.4f contrast %.4f %s\n", f.graph.c_str(), f.loss, f.contrast,
+                f.qualifies ? "" : "(fails the contrast test)");
+  }
+  // the loss alone takes a texture; with the test the floor stays plain (or a graph whose
+  // render is as plain as the photo)
+  EXPECT_NE(off.graph, "homogeneous");
+  const auto winner = std::find_if(on.finalists.begin(), on.finalists.end(),
+                                   [&](const SynthesisFinalist& f) { return f.graph == on.graph; });
+  ASSERT_NE(winner, on.finalists.end());
+  EXPECT_LE(winner->contrast, SynthesisOptions{}.maxContrastRatio * on.photoContrast);
+  EXPECT_NE(on.graph, off.graph);
 }
 
 }  // namespace

@@ -10,10 +10,13 @@
 //   texture_ps.hpp          computeTexturePsStatistics(): Portilla-Simoncelli-style joint
 //                           statistics (autocorrelations, cross-orientation / cross-scale
 //                           magnitude correlations, opponent colour), optional loss terms
+//   texture_contrast.hpp    typicalLocalContrast(): the median local contrast of a region (fine
+//                           structure almost everywhere, not a few strong edges; model selection)
 //   texture_placement.hpp   ps::PlacementLossTarget, placementLoss(): the pattern's placement
 //                           (low-passed luminance correlation, the paper's Eq. 9 pixel term)
 #pragma once
 
+#include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/features/texture_descriptor.hpp"
 #include "photoscene/features/texture_loss.hpp"
 #include "photoscene/features/texture_placement.hpp"

@@ -28,6 +28,13 @@ struct IncidentLightOptions {
   int phiBins = 16;
   int samplesPerBin =
       4;  ///< stratified path samples per bin (each one path-traced radiance estimate)
+  /// Light samples per light at every grid point (0: none). The light that reaches a point
+  /// straight from an emitter is then estimated twice, by the bins' path samples and by
+  /// sampling the emitters (PathTracer::sampleDirectLight), and the two are combined by
+  /// multiple importance sampling (power heuristic). With path samples alone a small lamp is
+  /// found by a few of a bin's samples or none, and the grid's shading varies by tens of percent
+  /// from point to point: blotches that the fit reads as texture (modules/raytrace/README.md).
+  int directSamples = 32;
   RenderOptions render;  ///< lights, bounce limits, seed (spp and filter are not used)
   /// Which parts need grid points, by part id (empty: all). A point whose pixel sees another
   /// part is not traced and stays invalid; the others are the same as without the list (each

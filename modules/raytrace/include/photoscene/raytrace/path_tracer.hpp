@@ -107,6 +107,15 @@ struct DenoiseGuides {
 };
 
 /// A shading point on the mesh.
+/// A light sample from a surface point (PathTracer::sampleDirectLight): direction towards the
+/// light (world), the radiance arriving (scaled by the light's scale), the solid-angle pdf of the
+/// light's own sampling, and whether the light is a delta (no direction sampling can find it).
+struct DirectLightSample {
+  Vec3f wi, Le;
+  float pdf = 0;
+  bool delta = false;
+};
+
 struct SurfacePoint {
   Vec3f p = Vec3f::Zero();
   Vec3f ng = Vec3f::Zero();  ///< unit geometric normal (winding order), not flipped
@@ -141,9 +150,23 @@ class PathTracer {
   std::vector<cv::Mat> renderPerLight(const Camera& camera, const RenderOptions& options,
                                       RenderStats* stats = nullptr) const;
   /// Radiance arriving at `org` from direction -dir (i.e. seen along dir), one path sample.
-  /// `rays` (optional) is incremented by the rays traced.
+  /// `rays` (optional) is incremented by the rays traced. `firstPdf` > 0 (with next-event
+  /// estimation on): emission that this first ray finds is weighted by the power heuristic
+  /// against sampleDirectLight's samples from `org`, firstPdf being the direction sampling's
+  /// density per light sample (the gatherer's samples per steradian over its light samples per
+  /// light); the gatherer adds those samples (DirectLightSample) with the complementary weight.
   Vec3f radiance(const Vec3f& org, const Vec3f& dir, const RenderOptions& options, Rng& rng,
-                 uint64_t* rays = nullptr) const;
+                 uint64_t* rays = nullptr, float firstPdf = 0) const;
+  /// `n` samples of every active light with a shape (area emitters; not the environment, whose
+  /// light a direction sampler finds well) seen from surface point `p` (geometric normal `ng`,
+  /// facing the side to light; shadow rays from `org`, offset off the surface), each light at
+  /// selection probability 1; only visible ones with radiance are returned. Empty without
+  /// next-event estimation. With radiance()'s firstPdf this is multiple importance sampling of
+  /// the direct light: a sample's weight is powerHeuristic(n pdf, firstPdf n).
+  std::vector<DirectLightSample> sampleDirectLight(const Vec3f& p, const Vec3f& org,
+                                                   const Vec3f& ng, int n,
+                                                   const RenderOptions& options, Rng& rng,
+                                                   uint64_t* rays = nullptr) const;
 
   const RayAccel& accel() const { return *accel_; }
   const Scene& scene() const { return scene_; }

@@ -13,9 +13,12 @@
 //
 // Texture only where the photo shows one (model selection): the homogeneous material has 4 free
 // values, a graph a dozen or more, so a graph must lower the loss below the homogeneous one's by
-// the factor (1 - textureMargin) to be chosen, and its render must not miss the photo's pixels by
+// the factor (1 - textureMargin) to be chosen, its render must not miss the photo's pixels by
 // more than maxPixelErrorRatio times the homogeneous material's RMSE (texture must not cost pixel
-// error); a part whose pixels are flat, blurred or noise stays homogeneous.
+// error), and its typical local contrast must not exceed maxContrastRatio times the photo's (no
+// more structure than the photo shows almost everywhere). The best-scoring graph that passes both
+// tests is weighed against the homogeneous material; a part whose pixels are flat, blurred or
+// noise, or plain apart from a few strong edges, stays homogeneous or gets a low-contrast graph.
 //
 //   ps::SynthesisChoice c = ps::chooseBySynthesis(lib, vote.votes, geo, photo, target,
 //                                                 ps::PartFitOptions::preset("balanced"), {});
@@ -47,6 +50,15 @@ struct SynthesisOptions {
   /// the yardstick's check half a tile wall went to fabric_windowpane at RMSE 54 against the flat
   /// material's 27).
   double maxPixelErrorRatio = 1.5;
+  /// ... and its render's typical local contrast (features/texture_contrast.hpp: the median over
+  /// the part of the local standard deviation over the local mean) must be at most this times
+  /// the photo's (0: no such test). The loss matches mean subband energies, which a few strong
+  /// edges in the mask (a picture frame on a plain wall, the floor behind a chair's box) dominate:
+  /// a graph that spreads that energy over the whole part (tiles, blotches) lowers the loss and
+  /// looks nothing like the photo. A texture that shows twice the photo's structure almost
+  /// everywhere is not the photo's texture, whatever its loss; the bar sits below 2 by the
+  /// noise a photo adds to its own contrast (none in the render layer's renders).
+  double maxContrastRatio = 1.5;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`). Off by default, with warmStartFit: on the
@@ -67,6 +79,8 @@ struct SynthesisFinalist {
                        ///< starts there with startFromNearestDraw (<= 0: the defaults)
   double loss = 0;     ///< fit loss after the short fit
   double pixelRmse = 0;  ///< masked RMSE of its render against the photo (linear)
+  double contrast = 0;   ///< typical local contrast of its render over the part (median)
+  bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
 };
@@ -74,6 +88,7 @@ struct SynthesisFinalist {
 struct SynthesisChoice {
   std::string graph, category;
   std::vector<SynthesisFinalist> finalists;  ///< sorted by loss, lowest first
+  double photoContrast = 0;  ///< typical local contrast of the photo over the part (median)
   double seconds = 0;                        ///< all short fits (wall clock)
 };
 

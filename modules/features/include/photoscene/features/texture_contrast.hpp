@@ -1,0 +1,44 @@
+// Typical local contrast of a masked region: how much fine structure a region shows *almost
+// everywhere*, as opposed to a few strong edges. Model selection uses it (select/synthesis.hpp):
+// "texture only where the photo shows one".
+//
+// The texture loss matches means of subband energies over the part (texture_loss.hpp), and a
+// mean is dominated by the strongest responses: a plain wall with a picture frame, a shelf and a
+// box edge in its mask has the mean energy of a textured wall, and a graph that spreads that
+// energy everywhere (tiles, blotches) lowers the loss while looking nothing like the photo. The
+// median of the local contrast is robust to those few edges: on a plain wall it is the plaster's
+// (and the noise's) contrast, on a tiled or planked floor it is the pattern's.
+//
+// Local contrast at a pixel: the standard deviation of the luminance in the (2r+1)^2 window
+// around it over the window's mean (a coefficient of variation: independent of the light's level,
+// and of smooth shading, which is nearly constant over a window). Only pixels whose whole window
+// lies in the mask count (no contrast from the mask's border); where the mean is below
+// `darkFloor` x the region's mean luminance, the floor replaces it (black pixels give no
+// unbounded ratios).
+//
+//   ps::LocalContrast c = ps::typicalLocalContrast(photo, partMask);
+//   if (c.pixels >= 50) ... c.median ...
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace ps {
+
+struct LocalContrastOptions {
+  int radius = 2;           ///< window (2 radius + 1)^2 pixels
+  float darkFloor = 0.05f;  ///< the window mean's floor, a fraction of the region's mean luminance
+};
+
+struct LocalContrast {
+  double median = 0;  ///< median over the counted pixels (0 when none)
+  double q25 = 0, q75 = 0;
+  int pixels = 0;     ///< pixels whose whole window lies in the mask
+};
+
+/// Typical local contrast of `image` over `mask` (see above).
+/// @param image CV_32FC3 linear RGB (negative and non-finite values read as 0)
+/// @param mask  CV_8UC1 of the same size; may be empty or too thin (then pixels = 0)
+LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
+                                   const LocalContrastOptions& options = {});
+
+}  // namespace ps

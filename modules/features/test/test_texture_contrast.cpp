@@ -1,0 +1,95 @@
+// Typical local contrast: fine structure almost everywhere (texture) against a few strong edges
+// (a plain surface with objects in its mask), independent of the light's level and of smooth
+// shading; finite on black, saturated, non-finite and tiny inputs.
+#include "photoscene/core/error.hpp"
+#include "photoscene/features.hpp"
+#include "texture_fixtures.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace ps {
+namespace {
+
+using test::checker;
+using test::diskMask;
+using test::noise;
+
+const cv::Size kSize(160, 120);
+
+cv::Mat flat(float v = 0.4f) { return cv::Mat(kSize, CV_32FC3, cv::Scalar::all(v)); }
+
+TEST(Features_Contrast, a_texture_has_contrast_almost_everywhere_a_plain_surface_with_edges_not) {
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  // plain plaster: faint fine noise
+  cv::Mat plain = flat() + (noise(kSize, 1.0, 3) - flat()) * 0.05;
+  // the same wall with a picture frame and a shelf in the mask: strong edges on few pixels
+  cv::Mat cluttered = plain.clone();
+  cv::rectangle(cluttered, cv::Rect(40, 30, 30, 24), cv::Scalar::all(0.05), 2);
+  cv::rectangle(cluttered, cv::Rect(60, 80, 60, 4), cv::Scalar::all(0.9), cv::FILLED);
+  // tiles: a checker of 6 px cells, and a grainy texture
+  const cv::Mat tiles = checker(kSize, 6), grain = noise(kSize, 1.0, 7);
+  const LocalContrast p = typicalLocalContrast(plain, mask);
+  const LocalContrast c = typicalLocalContrast(cluttered, mask);
+  const LocalContrast t = typicalLocalContrast(tiles, mask);
+  const LocalContrast g = typicalLocalContrast(grain, mask);
+  std::printf("median local contrast: plain %.4f, cluttered %.4f, tiles %.4f, grain %.4f\n",
+              p.median, c.median, t.median, g.median);
+  EXPECT_GT(p.pixels, 8000);
+  // the clutter's edges move the median little; both textures sit far above
+  EXPECT_LT(c.median, 1.5 * p.median);
+  EXPECT_GT(t.median, 5 * c.median);
+  EXPECT_GT(g.median, 5 * c.median);
+  // while the clutter moves the mean subband energy as a texture would: its variance over the
+  // mask is of the texture's order
+  cv::Scalar mc, sc, mp, sp;
+  cv::meanStdDev(cluttered, mc, sc, mask);
+  cv::meanStdDev(plain, mp, sp, mask);
+  EXPECT_GT(sc[0], 5 * sp[0]);
+  EXPECT_LE(p.q25, p.median);
+  EXPECT_LE(p.median, p.q75);
+}
+
+TEST(Features_Contrast, the_lights_level_and_smooth_shading_do_not_matter) {
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  const cv::Mat grain = noise(kSize, 1.5, 11);
+  const double base = typicalLocalContrast(grain, mask).median;
+  EXPECT_NEAR(typicalLocalContrast(grain * 7.0, mask).median, base, 1e-4 * base);
+  // a falloff across the part (0.4 to 1.6: a lamp near one end)
+  cv::Mat shaded = grain.clone();
+  for (int y = 0; y < kSize.height; ++y)
+    for (int x = 0; x < kSize.width; ++x) shaded.at<cv::Vec3f>(y, x) *= 0.4f + 1.2f * x / kSize.width;
+  EXPECT_NEAR(typicalLocalContrast(shaded, mask).median, base, 0.05 * base);
+}
+
+TEST(Features_Contrast, finite_on_black_saturated_non_finite_and_tiny_regions) {
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  const LocalContrast black = typicalLocalContrast(flat(0.0f), mask);
+  EXPECT_EQ(black.median, 0.0);
+  EXPECT_GT(black.pixels, 0);
+  // half black, half bright: the dark floor keeps the ratio bounded
+  cv::Mat half = flat(0.0f);
+  half(cv::Rect(80, 0, 80, kSize.height)).setTo(cv::Scalar::all(1e4));
+  const LocalContrast h = typicalLocalContrast(half, mask);
+  EXPECT_TRUE(std::isfinite(h.median) && std::isfinite(h.q75));
+  cv::Mat bad = noise(kSize, 1.0, 5);
+  bad.at<cv::Vec3f>(60, 80) = cv::Vec3f(std::numeric_limits<float>::quiet_NaN(),
+                                        std::numeric_limits<float>::infinity(), -1.0f);
+  EXPECT_TRUE(std::isfinite(typicalLocalContrast(bad, mask).median));
+  // one pixel, a line thinner than the window, an empty mask: no pixel counts
+  cv::Mat one = cv::Mat::zeros(kSize, CV_8UC1), line = one.clone();
+  one.at<uint8_t>(60, 80) = 255;
+  line.row(60).setTo(255);
+  for (const cv::Mat& m : {one, line, cv::Mat(cv::Mat::zeros(kSize, CV_8UC1))}) {
+    const LocalContrast c = typicalLocalContrast(bad, m);
+    EXPECT_EQ(c.pixels, 0);
+    EXPECT_EQ(c.median, 0.0);
+  }
+  EXPECT_THROW(typicalLocalContrast(cv::Mat(kSize, CV_32FC1), mask), Exception);
+}
+
+}  // namespace
+}  // namespace ps
