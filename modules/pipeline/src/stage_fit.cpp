@@ -6,7 +6,6 @@
 #include <spdlog/spdlog.h>
 
 #include "photoscene/core.hpp"
-#include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/select/synthesis.hpp"
 #include "stages.hpp"
@@ -14,9 +13,6 @@
 namespace ps::pipeline {
 
 namespace {
-
-// fewer pixels with their whole contrast window in the part: its median says little (as select)
-constexpr int kMinContrastPixels = 64;
 
 // The fit's version: 2 = the spectral UV prior and `balanced` at 100 steps; 3 = the
 // full-resolution steps after the coarse phase at a quarter of the learning rate; 4 = `balanced`
@@ -27,8 +23,8 @@ constexpr int kMinContrastPixels = 64;
 // leaves one (SynthesisOptions::warmStartFit; PartWork::startValues, startUv), else the graph's
 // defaults; 9 = a homogeneous part's
 // roughness from highlights only, else the prior's centre (HomogeneousRoughness); 10 = a fitted
-// texture with more typical local contrast than maxContrastRatio x the photo's is rejected for
-// the homogeneous material (PartWork::textureRejected).
+// texture that fails selection's pixel-error or contrast test is rejected for the homogeneous
+// material (PartWork::textureRejected).
 constexpr uint64_t kFitVersion = 10;
 
 class FitStage : public Stage {
@@ -71,19 +67,20 @@ class FitStage : public Stage {
     }
     const PartFitResult r = fitPart(graph, geo, photo, target, o, startUv);
     if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
-    // texture only where the photo shows one: a fitted render with more structure than the photo
-    // almost everywhere (typical local contrast above maxContrastRatio x the photo's, as
-    // select's synthesis tests its short fits) is not the photo's texture; the full fit can
-    // drift there from a short fit that passed
+    // texture only where the photo shows one, judged on the full fit as select judges its short
+    // fits (select/synthesis.hpp, textureEvidence): a fitted render that misses the photo's
+    // pixels by more than maxPixelErrorRatio x the homogeneous material's, or shows more than
+    // maxContrastRatio x the photo's typical local contrast, is not the photo's texture. The
+    // full fit can drift there from a short fit that passed.
     const SynthesisOptions selection = in.synthesisOptions();
-    if (selection.maxContrastRatio > 0) {
-      const LocalContrast photoContrast = typicalLocalContrast(photo, mask);
-      const double fitted = typicalLocalContrast(r.render, mask).median;
-      if (photoContrast.pixels >= kMinContrastPixels &&
-          fitted > selection.maxContrastRatio * photoContrast.median) {
-        spdlog::info("fit {}: {} rejected: its render's typical local contrast {:.3f} is above {} x "
-                     "the photo's {:.3f}; homogeneous instead",
-                     p.name, p.graph, fitted, selection.maxContrastRatio, photoContrast.median);
+    if (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0) {
+      const PartFitResult flat = homogeneousPartFit(in.library(), geo, photo, target, o);
+      const TextureEvidence e = textureEvidence(r.render, flat.render, photo, geo, selection);
+      if (!e.ok()) {
+        spdlog::info(
+            "fit {}: {} rejected for the homogeneous material: pixel RMSE {:.4f} against its "
+            "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f}",
+            p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast);
         p.textureRejected = p.graph;
         p.values.clear();
         p.mode = PartMode::Homogeneous;

@@ -18,7 +18,13 @@ constexpr const char* kHomogeneous = "homogeneous";
 // fewer pixels with their whole contrast window in the part: its median says little
 constexpr int kMinContrastPixels = 64;
 
-/// RMSE over `pixels` of two CV_32FC3 images, all channels (0 for no pixel or no render).
+cv::Mat maskOf(const PartGeometry& geometry, cv::Size size) {
+  cv::Mat m = cv::Mat::zeros(size, CV_8UC1);
+  for (const cv::Point& q : geometry.pixels) m.at<uint8_t>(q) = 255;
+  return m;
+}
+}  // namespace
+
 double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Point>& pixels) {
   if (pixels.empty() || a.empty() || a.size() != b.size()) return 0;
   double sum = 0;
@@ -28,7 +34,45 @@ double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Poin
   }
   return std::sqrt(sum / (3.0 * pixels.size()));
 }
-}  // namespace
+
+PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry& geometry,
+                                 const cv::Mat& photo, const TextureLossTarget& target,
+                                 const PartFitOptions& fit) {
+  // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
+  // the roughness as the fit's roughness terms say, HomogeneousRoughness), then scored by the
+  // same loss without steps; nothing to place: no UV search, no spectral prior
+  MaterialGraph graph = library.create(kHomogeneous);
+  const HomogeneousFit h =
+      fitHomogeneous(geometry, photo, roughnessGrid(5), homogeneousRoughness(fit));
+  graph.setParameter("albedo", {h.albedo.x(), h.albedo.y(), h.albedo.z()});
+  graph.setParameter("roughness", {h.roughness});
+  PartFitOptions o = fit;
+  o.maxIterations = 0;
+  o.restarts = 0;
+  o.searchRotations = o.searchLogScales = o.searchOffsets = 1;
+  o.refineSteps = 0;
+  o.spectrumScaleWindow = 0;
+  o.placementOffsets = 0;
+  return fitPart(graph, geometry, photo, target, o);
+}
+
+TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
+                                const PartGeometry& geometry, const SynthesisOptions& options) {
+  TextureEvidence e;
+  e.pixelRmse = maskedRmse(textured, photo, geometry.pixels);
+  e.flatPixelRmse = maskedRmse(flat, photo, geometry.pixels);
+  e.pixelsOk = options.maxPixelErrorRatio <= 0 || flat.empty() ||
+               e.pixelRmse <= options.maxPixelErrorRatio * e.flatPixelRmse;
+  if (options.maxContrastRatio > 0) {
+    const cv::Mat mask = maskOf(geometry, photo.size());
+    const LocalContrast pc = typicalLocalContrast(photo, mask);
+    e.photoContrast = pc.median;
+    e.contrast = typicalLocalContrast(textured, mask).median;
+    e.contrastOk =
+        pc.pixels < kMinContrastPixels || e.contrast <= options.maxContrastRatio * e.photoContrast;
+  }
+  return e;
+}
 
 bool SynthesisOptions::IsValid(std::string* error) const {
   std::ostringstream os;
@@ -102,8 +146,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
       }
   }
   // the part's mask (the geometry's pixels) and the photo's typical local contrast over it
-  cv::Mat partMask = cv::Mat::zeros(photo.size(), CV_8UC1);
-  for (const cv::Point& q : geometry.pixels) partMask.at<uint8_t>(q) = 255;
+  const cv::Mat partMask = maskOf(geometry, photo.size());
   const LocalContrast photoContrast = options.maxContrastRatio > 0
                                           ? typicalLocalContrast(photo, partMask)
                                           : LocalContrast{};
@@ -117,22 +160,9 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     MaterialGraph graph = library.create(f.graph);
     if (options.startFromNearestDraw && bank && f.draw > 0 && f.graph != kHomogeneous)
       graph.setValues(bankDrawValues(graph, *bank, f.draw));
-    if (f.graph == kHomogeneous) {
-      // in closed form (optim's fitHomogeneous: the albedo matching the photo's mean per channel,
-      // the roughness as the fit's roughness terms say, HomogeneousRoughness), then scored by the
-      // same loss without steps; nothing to place: no UV search, no spectral prior
-      const HomogeneousFit h =
-          fitHomogeneous(geometry, photo, roughnessGrid(5), homogeneousRoughness(fit));
-      graph.setParameter("albedo", {h.albedo.x(), h.albedo.y(), h.albedo.z()});
-      graph.setParameter("roughness", {h.roughness});
-      o.maxIterations = 0;
-      o.searchRotations = o.searchLogScales = o.searchOffsets = 1;
-      o.refineSteps = 0;
-      o.spectrumScaleWindow = 0;
-      o.placementOffsets = 0;
-    }
     const Timer t;
-    f.fit = fitPart(graph, geometry, photo, target, o);
+    f.fit = f.graph == kHomogeneous ? homogeneousPartFit(library, geometry, photo, target, fit)
+                                    : fitPart(graph, geometry, photo, target, o);
     f.loss = f.fit.loss;
     f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
     if (options.maxContrastRatio > 0) f.contrast = typicalLocalContrast(f.fit.render, partMask).median;

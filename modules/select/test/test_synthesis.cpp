@@ -199,5 +199,47 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
   EXPECT_NE(on.graph, off.graph);
 }
 
+TEST(Select_Synthesis, texture_evidence_tests_pixel_error_and_contrast) {
+  // a grainy photo; the flat render is its mean; an unaligned copy of the grain (the right
+  // texture, not pixel-aligned) passes both tests; a coarse high-contrast checker fails both
+  const cv::Size size(96, 72);
+  Rng rng(4);
+  cv::Mat photo(size, CV_32FC3), shifted(size, CV_32FC3), checker(size, CV_32FC3);
+  cv::Mat grain(size.height + 8, size.width + 8, CV_32F);
+  for (int y = 0; y < grain.rows; ++y)
+    for (int x = 0; x < grain.cols; ++x) grain.at<float>(y, x) = 0.4f + 0.06f * rng.normal();
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      photo.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y, x));
+      shifted.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y + 7, x + 5));
+      checker.at<cv::Vec3f>(y, x) = cv::Vec3f::all(((x / 6 + y / 6) & 1) ? 0.7f : 0.1f);
+    }
+  const cv::Mat flat(size, CV_32FC3, cv::Scalar::all(0.4));
+  PartGeometry geo;
+  geo.imageSize = size;
+  for (int y = 4; y < size.height - 4; ++y)
+    for (int x = 4; x < size.width - 4; ++x) geo.pixels.emplace_back(x, y);
+  const SynthesisOptions o;
+  const TextureEvidence right = textureEvidence(shifted, flat, photo, geo, o);
+  const TextureEvidence wrong = textureEvidence(checker, flat, photo, geo, o);
+  std::printf("unaligned grain: RMSE %.4f / flat %.4f, contrast %.3f / photo %.3f; checker: RMSE "
+              "%.4f, contrast %.3f\n",
+              right.pixelRmse, right.flatPixelRmse, right.contrast, right.photoContrast,
+              wrong.pixelRmse, wrong.contrast);
+  EXPECT_NEAR(right.pixelRmse / right.flatPixelRmse, std::sqrt(2.0), 0.1);
+  EXPECT_TRUE(right.ok());
+  EXPECT_FALSE(wrong.pixelsOk);
+  EXPECT_FALSE(wrong.contrastOk);
+  SynthesisOptions off;
+  off.maxPixelErrorRatio = 0;
+  off.maxContrastRatio = 0;
+  EXPECT_TRUE(textureEvidence(checker, flat, photo, geo, off).ok());
+  // too few pixels with a whole contrast window: no contrast test (the pixel test still runs)
+  PartGeometry thin;
+  thin.imageSize = size;
+  for (int x = 0; x < size.width; ++x) thin.pixels.emplace_back(x, 30);
+  EXPECT_TRUE(textureEvidence(checker, flat, photo, thin, o).contrastOk);
+}
+
 }  // namespace
 }  // namespace ps

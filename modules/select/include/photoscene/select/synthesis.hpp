@@ -92,6 +92,28 @@ struct SynthesisChoice {
   double seconds = 0;                        ///< all short fits (wall clock)
 };
 
+/// RMSE over `pixels` of two CV_32FC3 images, all channels (0 for no pixel or no image).
+double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Point>& pixels);
+
+/// The homogeneous material's fit on the part as selection scores it (closed form, optim's
+/// fitHomogeneous with 5 roughness values, then fitPart without steps: its loss and render).
+PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry& geometry,
+                                 const cv::Mat& photo, const TextureLossTarget& target,
+                                 const PartFitOptions& fit);
+
+/// Whether a textured render shows what the photo shows, by the model-selection tests above:
+/// its masked RMSE at most maxPixelErrorRatio x the flat (homogeneous) render's, its typical
+/// local contrast at most maxContrastRatio x the photo's (a test skipped when its ratio is 0, or
+/// when too few pixels have their whole contrast window in the part).
+struct TextureEvidence {
+  double pixelRmse = 0, flatPixelRmse = 0;  ///< linear, over the geometry's pixels
+  double contrast = 0, photoContrast = 0;   ///< typical local contrast (median)
+  bool pixelsOk = true, contrastOk = true;
+  bool ok() const { return pixelsOk && contrastOk; }
+};
+TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
+                                const PartGeometry& geometry, const SynthesisOptions& options);
+
 /// The finalists named above, in vote order (no duplicates; graphs the library lacks skipped).
 std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
                                             const std::vector<GraphVote>& votes,
