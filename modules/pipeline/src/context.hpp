@@ -26,6 +26,14 @@ struct PresetBudget {
   int lightSpp = 32;        ///< one-light-at-a-time renders
   int incidentSamples = 4;  ///< samples per incident-light bin
   int incidentStride = 8;
+  /// light samples per light at every incident-grid point (IncidentLightOptions::directSamples).
+  /// 0 in every preset: with the lamps sampled, the grid's shading is far less noisy (spread over
+  /// seeds 33 % -> 11 %) and fitted roughness lands nearer the truth (yardstick check half:
+  /// within 0.15 on 28.6 % -> 39.3 % of parts), but the flat material's render loses the noise
+  /// that had matched some of the photo's texture energy, textured finalists win more parts, and
+  /// the pixel error rises (check 18.70 -> 19.77; blender-room view 0 16.73 -> 18.19, the
+  /// bundled sample 11.12 -> 11.72). Off until selection stops favouring texture.
+  int incidentDirectSamples = 0;
   int renderSpp = 16;  ///< final renders (denoised by default: 16 spp denoised beats 64 raw)
   /// the evaluation's novel and relit renders: what their noise floor needs once denoised (the
   /// twin's own error against the ground truth is several times the noise left at 8 spp)

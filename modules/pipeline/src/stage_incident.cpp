@@ -27,7 +27,8 @@ class IncidentStage : public Stage {
     }
     // 2: grid points only on the parts fitted in the view; 3: paths from a grid point get one
     // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp); 4: the
-    // direct light also by light sampling, combined by MIS (IncidentLightOptions::directSamples)
+    // direct light can also be sampled from the lights, combined by MIS
+    // (IncidentLightOptions::directSamples; PresetBudget::incidentDirectSamples, 0 for now)
     decl.version = 4;
     decl.writes = {"ViewWork::grid"};
   }
@@ -41,6 +42,7 @@ class IncidentStage : public Stage {
     IncidentLightOptions o;
     o.stride = in.budget().incidentStride;
     o.samplesPerBin = in.budget().incidentSamples;
+    o.directSamples = in.budget().incidentDirectSamples;
     o.render.seed = in.seed() + 101 * v;
     // only the parts fitted in this view read its grid (fit, refine, baselines)
     o.parts.assign(in.litScene().parts.size(), 0);
