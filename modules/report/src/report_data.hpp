@@ -36,6 +36,15 @@ struct ReportCandidate {
   bool chosen = false;     ///< the graph the part was fitted with
 };
 
+/// A finalist of selection by synthesis (materials fit.finalists): its short fit on the part.
+struct ReportFinalist {
+  std::string graph;
+  double loss = 0;
+  double contrast = 0;    ///< typical local contrast of its render (NaN: not recorded)
+  bool qualifies = true;  ///< passed the pixel-error and contrast tests
+  bool chosen = false;
+};
+
 /// One part: its materials file as read (an object, possibly empty) and what the page adds.
 struct ReportPart {
   std::string name;
@@ -44,6 +53,9 @@ struct ReportPart {
   json material = json::object();
   std::vector<std::pair<std::string, std::string>> mapUrls;  ///< (albedo|normal|..., URL)
   std::vector<ReportCandidate> candidates;                   ///< best first, at most 5
+  std::vector<ReportFinalist> finalists;  ///< lowest loss first (select's short fits)
+  double photoContrast = 0;               ///< the photo's typical local contrast (NaN: none)
+  std::string textureRejected;  ///< the graph whose full fit was rejected for homogeneous
   json metrics;  ///< metrics.json's parts.<name>, or null
 };
 

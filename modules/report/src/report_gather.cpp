@@ -398,6 +398,22 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
       p.candidates.push_back(std::move(rc));
     }
   }
+  if (const json* fs = path(p.material, {"fit", "finalists"}); fs && fs->is_array()) {
+    for (const json& f : *fs) {
+      const json* g = at(f, "graph");
+      if (!g || !g->is_string()) continue;
+      ReportFinalist rf;
+      rf.graph = g->get<std::string>();
+      rf.loss = num(at(f, "loss"));
+      rf.contrast = num(at(f, "contrast"));
+      if (const json* q = at(f, "qualifies"); q && q->is_boolean()) rf.qualifies = q->get<bool>();
+      rf.chosen = graph && graph->is_string() && graph->get<std::string>() == rf.graph;
+      p.finalists.push_back(std::move(rf));
+    }
+  }
+  p.photoContrast = num(path(p.material, {"fit", "photo_contrast"}));
+  if (const json* r = path(p.material, {"fit", "texture_rejected"}); r && r->is_string())
+    p.textureRejected = r->get<std::string>();
   return p;
 }
 

@@ -342,6 +342,26 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
         << ", " << c.votes << " vote" << (c.votes == 1 ? "" : "s") << "</span></figcaption>"
         << "</figure>";
     }
+    // why: the short fits on the part, and the tests a texture had to pass
+    if (!p.finalists.empty()) {
+      h << "<p class=\"note finalists\">Decided by short fits on the part (lowest loss first): ";
+      for (size_t i = 0; i < p.finalists.size(); ++i) {
+        const ReportFinalist& f = p.finalists[i];
+        h << (i ? "; " : "") << (f.chosen ? "<b>" : "") << html(f.graph) << (f.chosen ? "</b>" : "")
+          << " loss " << fmtNum(f.loss, 3);
+        if (std::isfinite(f.contrast) && f.graph != "homogeneous")
+          h << ", contrast " << fmtNum(f.contrast, 3);
+        if (!f.qualifies) h << " (more structure or pixel error than the photo allows)";
+      }
+      h << ".";
+      if (std::isfinite(p.photoContrast) && p.photoContrast > 0)
+        h << " The photo's typical local contrast: " << fmtNum(p.photoContrast, 3) << ".";
+      h << " A graph must beat the homogeneous loss by the margin and pass both tests.";
+      if (!p.textureRejected.empty())
+        h << " The full fit of <b>" << html(p.textureRejected)
+          << "</b> failed them: the part is homogeneous.";
+      h << "</p>";
+    }
     // the example forces the best candidate that was not chosen
     const ReportCandidate& example = *std::find_if(
         p.candidates.begin(), p.candidates.end() - 1, [](const auto& c) { return !c.chosen; });

@@ -86,6 +86,12 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   for (size_t i = 0; i < graphs.size(); ++i)
     m["fit"]["candidates"].push_back(
         {{"graph", graphs[i]}, {"category", "c"}, {"score", 0.5 - 0.05 * i}, {"votes", 2}});
+  // and the synthesis's finalists with their verdicts (what select and fit write)
+  m["fit"]["finalists"] = nlohmann::json::array(
+      {{{"graph", "tile_hexagon"}, {"loss", 0.12}, {"contrast", 0.31}, {"qualifies", false}},
+       {{"graph", "plaster_stucco"}, {"loss", 0.15}, {"contrast", 0.05}, {"qualifies", true}},
+       {{"graph", "homogeneous"}, {"loss", 0.19}, {"contrast", 0.01}, {"qualifies", true}}});
+  m["fit"]["photo_contrast"] = 0.06;
   io::writeJsonFile(mf, m);
   ReportOptions o;
   o.viewerDir = fakeViewer(dir);
@@ -104,6 +110,11 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   EXPECT_TRUE(contains(cells, "score 0.5,"));
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b>"));  // the chosen one is marked
   EXPECT_TRUE(contains(cells, "\"sofa_fabric\": { \"graph\": \"tile_hexagon\" }"));
+  // why the lowest loss did not win: it failed the contrast test
+  EXPECT_TRUE(contains(cells, "tile_hexagon loss 0.12, contrast 0.31 (more structure or pixel "
+                              "error than the photo allows)"));
+  EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15"));
+  EXPECT_TRUE(contains(cells, "typical local contrast: 0.06"));
   const cv::Mat preview = io::readImage(out / "previews/tile_hexagon.png");
   EXPECT_EQ(preview.cols, o.candidatePreviewSize);
   // parts without candidates (the other GT materials) get no row

@@ -45,7 +45,9 @@ KnnIndex::KnnIndex(const std::vector<float>& keys, int rows, int dim, KnnIndexTy
   impl_->type = type;
   flann::Matrix<float> data(impl_->keys.data(), rows, dim);
   impl_->index = std::make_unique<flann::Index<flann::L2<float>>>(data, paramsFor(type));
-  flann::seed_random(0);  // deterministic trees
+  // seeds FLANN's tree randomisation; the k-d trees still differ from run to run (measured in
+  // Select_Knn), which is why the exemplar bank uses the exact (Linear) index
+  flann::seed_random(0);
   impl_->index->buildIndex();
 }
 

@@ -54,8 +54,12 @@ TEST(Select_Knn, flann_index_types_agree_with_exhaustive_search) {
         EXPECT_NEAR(res.distance[0], all[0].first, 1e-4);
       }
     }
-    // approximate indexes find most true neighbours at these settings
-    EXPECT_GE(static_cast<double>(agree) / total, type == KnnIndexType::Linear ? 1.0 : 0.7)
+    // approximate indexes find most true neighbours at these settings. FLANN's trees differ from
+    // run to run (seed_random does not pin them here): over 30 data seeds and two runs the k-d
+    // tree's recall of the true 5 ranged 0.696-0.804, k-means' 0.872-0.948, so the bars sit
+    // below those ranges (a broken index finds about 1 %: 5 of 600 rows at random)
+    EXPECT_GE(static_cast<double>(agree) / total,
+              type == KnnIndexType::Linear ? 1.0 : type == KnnIndexType::KdTree ? 0.6 : 0.75)
         << knnIndexTypeName(type);
   }
 }
