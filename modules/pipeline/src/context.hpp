@@ -104,11 +104,11 @@ struct PartWork {
     double pixelRmse = 0, contrast = 0;  ///< its render's masked RMSE and typical local contrast
     bool qualifies = true;  ///< passed the pixel-error and contrast tests (SynthesisFinalist)
   };
+  std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first
   double photoContrast = 0;  ///< the photo's typical local contrast over the part (synthesis)
   /// the graph whose full fit was rejected for more structure than the photo shows (fit), else
   /// empty
   std::string textureRejected;
-  std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first
   /// where the fit starts: the synthesis winner's short fit (values in MaterialGraph::values()
   /// layout, UV); empty values: the graph's defaults and the identity UV
   std::vector<float> startValues;

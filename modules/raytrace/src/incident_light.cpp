@@ -13,11 +13,6 @@ int IncidentLightGrid::pixelY(int gy, int imageHeight) const {
 }
 
 namespace {
-// the power heuristic's weight of a strategy of density a against one of density b
-float powerHeuristicWeight(float a, float b) {
-  const float a2 = a * a, b2 = b * b;
-  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
-}
 Vec3f localDir(float cosT, float phi) {
   const float sinT = std::sqrt(std::max(0.0f, 1 - cosT * cosT));
   return Vec3f(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
@@ -114,16 +109,16 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
     if (M > 0) {
       direct.assign(static_cast<size_t>(o.thetaBins) * o.phiBins, Vec3f::Zero());
       Rng lightRng = rng.split(0x11e7u);
-      for (const DirectLightSample& s : tracer.sampleDirectLight(P, org, Ng, M, afterFirst, lightRng)) {
+      for (const DirectLightSample& s :
+           tracer.sampleDirectLight(P, org, Ng, M, firstPdf, afterFirst, lightRng)) {
         const Vec3f l(s.wi.dot(T), s.wi.dot(B), s.wi.dot(N));
         if (l.z() <= 0 || s.wi.dot(Ng) <= 0) continue;  // the bins cover the shading hemisphere
         const int bi = std::min(o.thetaBins - 1, static_cast<int>((1.0f - l.z()) * o.thetaBins));
         float phi = std::atan2(l.y(), l.x());
         if (phi < 0) phi += 2 * kPi;
         const int bj = std::min(o.phiBins - 1, static_cast<int>(phi / (2 * kPi) * o.phiBins));
-        const float w = s.delta ? 1.0f : powerHeuristicWeight(s.pdf, firstPdf);
-        const Vec3f c = s.Le * (w / (M * s.pdf * binOmega));
-        if (c.allFinite()) direct[static_cast<size_t>(bi) * o.phiBins + bj] += c;
+        // the bin's mean radiance: the integral estimate over the bin's solid angle
+        direct[static_cast<size_t>(bi) * o.phiBins + bj] += s.value / (M * binOmega);
       }
     }
     for (int i = 0; i < o.thetaBins; ++i)

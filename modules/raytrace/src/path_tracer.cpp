@@ -577,17 +577,15 @@ Vec3f PathTracer::radiance(const Vec3f& org, const Vec3f& dir, const RenderOptio
 }
 
 std::vector<DirectLightSample> PathTracer::sampleDirectLight(const Vec3f& p, const Vec3f& org,
-                                                             const Vec3f& ng, int n,
+                                                             const Vec3f& ng, int n, float firstPdf,
                                                              const RenderOptions& options, Rng& rng,
                                                              uint64_t* rays) const {
   std::vector<DirectLightSample> out;
   if (n < 1 || !options.nextEventEstimation) return out;
   const ActiveLights act = makeActive(scene_, *lights_, options.lights);
   Tracer tr{*this, *lights_, act, options, *accel_};
-  std::vector<uint8_t> infinite(act.on.size(), 0);
-  for (int i : lights_->infinite) infinite[i] = 1;
   for (size_t i = 0; i < act.on.size(); ++i) {
-    if (!act.on[i] || infinite[i]) continue;
+    if (!act.on[i] || lights_->lights[i]->isInfinite()) continue;
     for (int k = 0; k < n; ++k) {
       // stratified in the light's first dimension, independent in the other two
       const float u = (k + rng.uniform()) / n;
@@ -595,7 +593,9 @@ std::vector<DirectLightSample> PathTracer::sampleDirectLight(const Vec3f& p, con
       Tracer::LightSample ls;
       if (!tr.sampleVisible(static_cast<int>(i), 1.0f, p, org, ng, u, uPt, &ls)) continue;
       if (!(ls.pdf > 0) || !ls.Le.allFinite()) continue;
-      out.push_back({ls.wi, ls.Le, ls.pdf, ls.delta});
+      const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, firstPdf);
+      const Vec3f value = ls.Le * (w / ls.pdf);
+      if (value.allFinite()) out.push_back({ls.wi, value});
     }
   }
   if (rays) *rays += tr.rays;

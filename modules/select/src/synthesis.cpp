@@ -56,21 +56,28 @@ PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry
   return fitPart(graph, geometry, photo, target, o);
 }
 
+void TextureEvidence::judge(const SynthesisOptions& options) {
+  pixelsOk = options.maxPixelErrorRatio <= 0 || !hasFlat ||
+             pixelRmse <= options.maxPixelErrorRatio * flatPixelRmse;
+  // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
+  contrastOk = options.maxContrastRatio <= 0 || photoContrastPixels < kMinContrastPixels ||
+               contrast <= options.maxContrastRatio * photoContrast;
+}
+
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
                                 const PartGeometry& geometry, const SynthesisOptions& options) {
   TextureEvidence e;
   e.pixelRmse = maskedRmse(textured, photo, geometry.pixels);
+  e.hasFlat = !flat.empty();
   e.flatPixelRmse = maskedRmse(flat, photo, geometry.pixels);
-  e.pixelsOk = options.maxPixelErrorRatio <= 0 || flat.empty() ||
-               e.pixelRmse <= options.maxPixelErrorRatio * e.flatPixelRmse;
   if (options.maxContrastRatio > 0) {
     const cv::Mat mask = maskOf(geometry, photo.size());
     const LocalContrast pc = typicalLocalContrast(photo, mask);
     e.photoContrast = pc.median;
+    e.photoContrastPixels = pc.pixels;
     e.contrast = typicalLocalContrast(textured, mask).median;
-    e.contrastOk =
-        pc.pixels < kMinContrastPixels || e.contrast <= options.maxContrastRatio * e.photoContrast;
   }
+  e.judge(options);
   return e;
 }
 
@@ -176,15 +183,16 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   const auto homogeneous =
       std::find_if(out.finalists.begin(), out.finalists.end(),
                    [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
-  // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
-  const bool contrastTest = options.maxContrastRatio > 0 && photoContrast.pixels >= kMinContrastPixels;
   for (SynthesisFinalist& f : out.finalists) {
     if (f.graph == kHomogeneous || homogeneous == out.finalists.end()) continue;
-    const bool pixelsOk = options.maxPixelErrorRatio <= 0 ||
-                          f.pixelRmse <= options.maxPixelErrorRatio * homogeneous->pixelRmse;
-    const bool contrastOk =
-        !contrastTest || f.contrast <= options.maxContrastRatio * photoContrast.median;
-    f.qualifies = pixelsOk && contrastOk;
+    TextureEvidence e;
+    e.pixelRmse = f.pixelRmse;
+    e.flatPixelRmse = homogeneous->pixelRmse;
+    e.contrast = f.contrast;
+    e.photoContrast = photoContrast.median;
+    e.photoContrastPixels = photoContrast.pixels;
+    e.judge(options);
+    f.qualifies = e.ok();
   }
   const auto textured =
       std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {

@@ -107,13 +107,12 @@ struct DenoiseGuides {
 };
 
 /// A shading point on the mesh.
-/// A light sample from a surface point (PathTracer::sampleDirectLight): direction towards the
-/// light (world), the radiance arriving (scaled by the light's scale), the solid-angle pdf of the
-/// light's own sampling, and whether the light is a delta (no direction sampling can find it).
+/// A light sample from a surface point (PathTracer::sampleDirectLight): the direction towards
+/// the light (world) and its MIS-weighted estimate w Le / pdf (radiance arriving, scaled by the
+/// light's scale, over the light's own solid-angle pdf, times its power-heuristic weight against
+/// the caller's direction sampling; 1 for delta lights, which no direction sampling finds).
 struct DirectLightSample {
-  Vec3f wi, Le;
-  float pdf = 0;
-  bool delta = false;
+  Vec3f wi, value;
 };
 
 struct SurfacePoint {
@@ -161,10 +160,11 @@ class PathTracer {
   /// light a direction sampler finds well) seen from surface point `p` (geometric normal `ng`,
   /// facing the side to light; shadow rays from `org`, offset off the surface), each light at
   /// selection probability 1; only visible ones with radiance are returned. Empty without
-  /// next-event estimation. With radiance()'s firstPdf this is multiple importance sampling of
-  /// the direct light: a sample's weight is powerHeuristic(n pdf, firstPdf n).
+  /// next-event estimation. Paired with radiance()'s first rays at the same `firstPdf`, this is
+  /// multiple importance sampling of the direct light: each sample carries the power heuristic's
+  /// weight of its pdf against firstPdf, the first rays' emission the complement.
   std::vector<DirectLightSample> sampleDirectLight(const Vec3f& p, const Vec3f& org,
-                                                   const Vec3f& ng, int n,
+                                                   const Vec3f& ng, int n, float firstPdf,
                                                    const RenderOptions& options, Rng& rng,
                                                    uint64_t* rays = nullptr) const;
 

@@ -107,9 +107,14 @@ PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry
 /// when too few pixels have their whole contrast window in the part).
 struct TextureEvidence {
   double pixelRmse = 0, flatPixelRmse = 0;  ///< linear, over the geometry's pixels
+  bool hasFlat = true;                      ///< a flat render to compare the pixel error with
   double contrast = 0, photoContrast = 0;   ///< typical local contrast (median)
+  int photoContrastPixels = 0;              ///< pixels the photo's median is over
   bool pixelsOk = true, contrastOk = true;
   bool ok() const { return pixelsOk && contrastOk; }
+  /// Sets pixelsOk and contrastOk from the numbers above (the one place the tests are made:
+  /// chooseBySynthesis on its finalists, textureEvidence on a full fit).
+  void judge(const SynthesisOptions& options);
 };
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
                                 const PartGeometry& geometry, const SynthesisOptions& options);
