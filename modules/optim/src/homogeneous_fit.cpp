@@ -16,6 +16,59 @@ namespace {
 cv::Mat constantMap(const Vec3f& v) {
   return cv::Mat(4, 4, CV_32FC3, cv::Scalar(v.x(), v.y(), v.z()));
 }
+
+/// Mean of a CV_32FC3 image over `pixels`.
+cv::Scalar meanOver(const cv::Mat& image, const std::vector<cv::Point>& pixels) {
+  cv::Scalar s(0, 0, 0);
+  for (const cv::Point& q : pixels) {
+    const cv::Vec3f c = image.at<cv::Vec3f>(q);
+    for (int k = 0; k < 3; ++k) s[k] += c[k];
+  }
+  return pixels.empty() ? s : s / static_cast<double>(pixels.size());
+}
+
+/// Sum over the views' pixels of min(i0 + a d, clip) in channel k.
+double clippedSum(const std::vector<PartView>& views, const std::vector<cv::Mat>& i0,
+                  const std::vector<cv::Mat>& d, int k, double a) {
+  double s = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const double clip = views[v].clip;
+    for (const cv::Point& q : views[v].geometry->pixels)
+      s += std::min(double(i0[v].at<cv::Vec3f>(q)[k]) + a * d[v].at<cv::Vec3f>(q)[k], clip);
+  }
+  return s;
+}
+
+/// The albedo of channel k whose render, clipped at each view's PartView::clip, sums to the
+/// photo's `photoSum` (file comment); `linear` is the unclipped closed form, a lower bound (the
+/// clipped sum is at most the unclipped one). Returns `linear` where no clip is finite or no
+/// render pixel reaches it; above 1 where even albedo 1 falls short (the caller clamps and warns).
+float censoredAlbedo(const std::vector<PartView>& views, const std::vector<cv::Mat>& i0,
+                     const std::vector<cv::Mat>& d, int k, double photoSum, float linear) {
+  bool reaches = false;  // does the render at the closed form reach a clip level anywhere?
+  for (size_t v = 0; v < views.size() && !reaches; ++v) {
+    if (!std::isfinite(views[v].clip)) continue;
+    for (const cv::Point& q : views[v].geometry->pixels)
+      if (i0[v].at<cv::Vec3f>(q)[k] + linear * d[v].at<cv::Vec3f>(q)[k] > views[v].clip) {
+        reaches = true;
+        break;
+      }
+  }
+  if (!reaches) return linear;
+  double lo = linear;
+  // the clipped sum grows with a (no faster than the unclipped one): bracket, then bisect
+  double hi = std::max(2.0 * lo, 1e-3);
+  while (clippedSum(views, i0, d, k, hi) < photoSum) {
+    lo = hi;
+    hi *= 2;
+    if (hi > 64) return static_cast<float>(hi);  // the photo's mean is out of reach: clamped
+  }
+  for (int it = 0; it < 40 && hi - lo > 1e-6 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (clippedSum(views, i0, d, k, mid) < photoSum ? lo : hi) = mid;
+  }
+  return static_cast<float>(0.5 * (lo + hi));
+}
 }  // namespace
 
 std::vector<float> roughnessGrid(int n) {
@@ -100,6 +153,8 @@ HomogeneousFit fitHomogeneous(const std::vector<PartView>& views, const std::vec
     for (int k = 0; k < 3; ++k) {
       const double diffuse = sd[k] / n;
       albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoSum[k] - s0[k]) / n / diffuse) : 0.5f;
+      if (diffuse > 1e-9 && albedo[k] > 0)
+        albedo[k] = censoredAlbedo(views, i0, d, k, photoSum[k], albedo[k]);
     }
     const float over = albedo.maxCoeff();
     albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
@@ -134,7 +189,7 @@ HomogeneousFit fitHomogeneous(const std::vector<PartView>& views, const std::vec
 
 TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, const cv::Mat& mask,
                               const cv::Mat& albedo, const cv::Mat& normal, const UvParams& uv,
-                              float roughness, int n) {
+                              float roughness, int n, float clip) {
   TexturedRefine best;
   // the roughness factor moves only where the light predicts a highlight (else the photo has
   // nothing to say about gloss and the statistics prefer a sparkle that matches noise); there the
@@ -176,6 +231,39 @@ TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, con
       if (mw[k] > 1e-9)
         o[k] =
             std::clamp(static_cast<float>((mp[k] - m0[k] - s * md[k]) / (s * mw[k])), -0.5f, 0.5f);
+    if (std::isfinite(clip)) {
+      // where the photo clips, the channel's offset matches its mean with the render clipped
+      // (the clipped mean rises with the offset: w >= 0): bisection above the linear solution
+      const auto clippedMean = [&](int k, float offset) {
+        double sum = 0;
+        for (const cv::Point& q : geo.pixels)
+          sum += std::min(double(i0.at<cv::Vec3f>(q)[k]) +
+                              s * (d.at<cv::Vec3f>(q)[k] + offset * w.at<cv::Vec3f>(q)[k]),
+                          double(clip));
+        return sum / std::max<size_t>(1, geo.pixels.size());
+      };
+      const cv::Scalar target = meanOver(photo, geo.pixels);
+      const auto reaches = [&](int k) {
+        for (const cv::Point& q : geo.pixels)
+          if (i0.at<cv::Vec3f>(q)[k] + s * (d.at<cv::Vec3f>(q)[k] + o[k] * w.at<cv::Vec3f>(q)[k]) >
+              clip)
+            return true;
+        return false;
+      };
+      for (int k = 0; k < 3; ++k) {
+        if (mw[k] <= 1e-9 || !reaches(k) || clippedMean(k, o[k]) >= target[k]) continue;
+        float lo = o[k], hi = 0.5f;
+        if (clippedMean(k, hi) < target[k]) {
+          o[k] = hi;
+          continue;
+        }
+        for (int it = 0; it < 30 && hi - lo > 1e-5f; ++it) {
+          const float mid = 0.5f * (lo + hi);
+          (clippedMean(k, mid) < target[k] ? lo : hi) = mid;
+        }
+        o[k] = 0.5f * (lo + hi);
+      }
+    }
     const cv::Mat render = i0 + (d + w.mul(cv::Scalar(o.x(), o.y(), o.z()))) * s;
     const double loss = statLoss(photo, render, geo.pixels, nullptr) +
                         highlightLoss(photo, render, geo.pixels, highlight, nullptr);

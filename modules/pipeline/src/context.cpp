@@ -45,6 +45,8 @@ ViewInput workingView(const View& input, int workWidth) {
   const int height = std::max(1, static_cast<int>(std::lround(double(input.camera.height()) *
                                                               width / input.camera.width())));
   w.camera = input.camera.resized(width, height);
+  w.clips = input.imagePath.empty() || !fs::exists(input.imagePath) ||
+            !io::readImageInfo(input.imagePath).isFloat;
   if (width == input.photo.cols && height == input.photo.rows)
     w.photo = input.photo;
   else

@@ -48,6 +48,8 @@ struct ViewInput {
   Camera camera;   ///< at the working resolution
   cv::Mat photo;   ///< CV_32FC3, working resolution
   cv::Mat labels;  ///< CV_32SC1 regions at the working resolution (empty: proposed)
+  /// an integer-coded photo (PNG, JPEG) clips at 1; a float one (EXR, HDR) does not
+  bool clips = true;
 };
 
 /// What the stages compute per view (each field written by the stage named).

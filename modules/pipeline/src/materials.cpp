@@ -30,7 +30,7 @@ HomogeneousFit fitHomogeneousPart(const Context& ctx, const Reads& in, const Par
   const std::vector<int> views = fitViews(p, in.fitAllViews());
   std::vector<PartGeometry> geos;
   geos.reserve(views.size());  // the PartViews point into it
-  std::vector<PartView> pv = {{&geometry, photo}};
+  std::vector<PartView> pv = {{&geometry, photo, in.photoClip(p.view, ctx.viewExposure(p.view))}};
   for (size_t i = 1; i < views.size(); ++i) {
     const int w = views[i];
     const ViewWork& view = ctx.views[w];
@@ -39,7 +39,8 @@ HomogeneousFit fitHomogeneousPart(const Context& ctx, const Reads& in, const Par
     geos.push_back(preparePartGeometry(view.gbuffer, in.camera(w).position().cast<float>(),
                                        view.grid, mask->second, p.id));
     if (geos.back().size() < kMinFitPixels) continue;
-    pv.push_back({&geos.back(), partPhoto(in.photo(w), view, p.id) / ctx.viewExposure(w)});
+    pv.push_back({&geos.back(), partPhoto(in.photo(w), view, p.id) / ctx.viewExposure(w),
+                  in.photoClip(w, ctx.viewExposure(w))});
   }
   return fitHomogeneous(pv, roughnessGrid(candidates), homogeneousRoughness(in.fitOptions()));
 }

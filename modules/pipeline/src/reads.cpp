@@ -1,6 +1,7 @@
 // Reading a stage's inputs as declared (Reads, stage.hpp): every accessor names the scene.json
 // keys and options it stands for and refuses them when the stage did not declare them.
 #include <algorithm>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -85,6 +86,13 @@ const cv::Mat& Reads::photo(int view) const {
   for (const char* k : {"views[].image", "views[].color_space", "views[].camera"}) need(k, view);
   needOption("work_width");
   return ctx_.in_.views.at(view).photo;
+}
+
+float Reads::photoClip(int view, double exposure) const {
+  need("views[].image", view);
+  return ctx_.in_.views.at(view).clips && exposure > 0
+             ? static_cast<float>(1.0 / exposure)
+             : std::numeric_limits<float>::infinity();
 }
 
 const cv::Mat& Reads::labels(int view) const {

@@ -81,6 +81,9 @@ class Reads {
   const Camera& camera(int view) const;        ///< working resolution: `views[].camera`, work_width
   const cv::Mat& photo(int view)
       const;  ///< CV_32FC3: `views[].image`, `views[].color_space`, `views[].camera`, work_width
+  /// The level at which the view's photo, divided by `exposure`, is clipped: 1 / exposure for an
+  /// integer-coded photo, infinity for a float one (`views[].image`)
+  float photoClip(int view, double exposure) const;
   const cv::Mat& labels(int view) const;  ///< CV_32SC1 or empty: `views[].segments` + the photo's
   const std::map<int, int>& segmentParts(int view) const;               ///< `views[].segment_parts`
   const std::optional<std::string>& partGraph(int part) const;          ///< `parts.{}.graph`

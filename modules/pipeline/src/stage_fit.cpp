@@ -24,8 +24,9 @@ namespace {
 // defaults; 9 = a homogeneous part's
 // roughness from highlights only, else the prior's centre (HomogeneousRoughness); 10 = a fitted
 // texture that fails selection's pixel-error or contrast test is rejected for the homogeneous
-// material (PartWork::textureRejected).
-constexpr uint64_t kFitVersion = 10;
+// material (PartWork::textureRejected); 11 = a homogeneous albedo matches the photo's mean with
+// the render clipped where an integer-coded photo clips (PartView::clip).
+constexpr uint64_t kFitVersion = 11;
 
 class FitStage : public Stage {
  public:
@@ -122,7 +123,8 @@ class FitStage : public Stage {
       const HomogeneousFit f =
           p.mode == PartMode::Homogeneous
               ? fitHomogeneousPart(ctx, in, p, geo, photo, in.budget().refineCandidates)
-              : fitHomogeneous(geo, photo, roughnessGrid(in.budget().refineCandidates),
+              : fitHomogeneous({{&geo, photo, in.photoClip(p.view, ctx.viewExposure(p.view))}},
+                               roughnessGrid(in.budget().refineCandidates),
                                homogeneousRoughness(in.fitOptions()));
       p.mode = PartMode::Homogeneous;
       p.graph = p.category = "homogeneous";

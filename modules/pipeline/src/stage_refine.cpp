@@ -25,8 +25,10 @@ class RefineStage : public Stage {
         "roughness"};
     decl.parallel = true;
     // 2: the photo divided by its view's exposure; 3: a homogeneous part's roughness from highlights
-    // only, else the prior's centre (HomogeneousRoughness)
-    decl.version = 3;
+    // only, else the prior's centre (HomogeneousRoughness); 4: the albedo (homogeneous) or the
+    // offsets (textured) match the photo's mean with the render clipped where an integer-coded
+    // photo clips (PartView::clip)
+    decl.version = 4;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -55,7 +57,8 @@ class RefineStage : public Stage {
       const MaterialMaps maps =
           g.evaluate(in.fitOptions().mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       const TexturedRefine r =
-          refineTextured(geo, photo, mask, maps.albedo, maps.normal, p.uv, p.roughness, candidates);
+          refineTextured(geo, photo, mask, maps.albedo, maps.normal, p.uv, p.roughness, candidates,
+                         in.photoClip(p.view, ctx.viewExposure(p.view)));
       p.albedoScale = r.albedoScale;
       p.albedoOffset = r.albedoOffset;
       p.roughnessFactor = r.roughnessFactor;

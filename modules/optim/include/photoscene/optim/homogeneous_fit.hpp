@@ -7,10 +7,18 @@
 // roughness the albedo that matches the photo's mean is a closed form per channel, and only the
 // roughness is searched over a few candidates.
 //
+// A photo coded in integers clips at 1: where a part's pixels are saturated in a channel (a
+// bright orange wall's red under a warm light), their mean is less than the light and albedo
+// would give, and a fit that matches it renders the part dimmer than the photo wherever the
+// photo is not clipped. With the clip level given (PartView::clip), the albedo is the one whose
+// render, clipped at that level, has the photo's mean (a censored mean: monotone in the albedo,
+// found by bisection); where no render pixel reaches the level it is the closed form.
+//
 //   const ps::PartGeometry geo = ps::preparePartGeometry(gb, cam, grid, mask, part);
 //   const ps::HomogeneousFit f = ps::fitHomogeneous(geo, photo, ps::roughnessGrid(7));
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -72,6 +80,9 @@ HomogeneousFit fitHomogeneous(const PartGeometry& geometry, const cv::Mat& photo
 struct PartView {
   const PartGeometry* geometry = nullptr;
   cv::Mat photo;  ///< CV_32FC3 linear RGB, the view's Eq. 1 warp, divided by its exposure
+  /// the level at which `photo` is clipped (1 / exposure for an 8- or 16-bit photo); infinity:
+  /// never (a float photo)
+  float clip = std::numeric_limits<float>::infinity();
 };
 
 /// The same fit over several views of the part at once: the albedo matches the photos' mean over
@@ -99,9 +110,12 @@ struct TexturedRefine {
 /// @param photo   CV_32FC3 linear RGB in the render frame; @param mask CV_8UC1 M_aln
 /// @param albedo  CV_32FC3 albedo map; @param normal CV_32FC3 tangent-space normal map
 /// @param uv      the part's UV transform; @param roughness the held mean roughness
+/// @param clip    the level at which `photo` is clipped (PartView::clip): each channel's offset
+///                then matches the photo's mean with the render clipped there
 TexturedRefine refineTextured(const PartGeometry& geometry, const cv::Mat& photo,
                               const cv::Mat& mask, const cv::Mat& albedo, const cv::Mat& normal,
-                              const UvParams& uv, float roughness, int candidates);
+                              const UvParams& uv, float roughness, int candidates,
+                              float clip = std::numeric_limits<float>::infinity());
 
 /// The shading-median baseline (an inverse-rendering stand-in): per channel, the median over
 /// the part's pixels of photo / diffuse shading (the Lambert render with a white albedo),
