@@ -1,35 +1,20 @@
 // Runs every stage sample on the bundled sample scene (samples/data/living-room), as a newcomer
 // would, and checks what each one claims.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <regex>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
+#include "run_command.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exitCode = -1;
-  std::string output;
-};
-
-Result run(const std::string& cmd) {
-  Result r;
-  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = ps::cli_test::Result;
+const auto run = ps::cli_test::runCommand;
 
 const fs::path kSample = fs::path(PS_SAMPLE_DIR);
 const fs::path kBin = fs::path(PS_BIN_DIR);

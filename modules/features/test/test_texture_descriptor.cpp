@@ -17,10 +17,7 @@
 namespace ps {
 namespace {
 
-using test::checker;
-using test::diskMask;
-using test::noise;
-using test::stripes;
+using namespace test;  // texture_fixtures.hpp
 
 std::vector<float> values(const cv::Mat& img, const cv::Mat& mask,
                           const TextureDescriptorOptions& o = {}) {

@@ -11,10 +11,7 @@
 namespace ps {
 namespace {
 
-using test::checker;
-using test::diskMask;
-using test::noise;
-using test::stripes;
+using namespace test;  // texture_fixtures.hpp
 
 // Mask pixels with at least one 4-neighbour outside the mask.
 std::vector<cv::Point> edgePixels(const cv::Mat& mask) {
@@ -30,16 +27,6 @@ std::vector<cv::Point> edgePixels(const cv::Mat& mask) {
   return out;
 }
 
-std::vector<cv::Point> samplePixels(const cv::Mat& mask, bool inside, int count, uint64_t seed) {
-  Rng rng(seed);
-  std::vector<cv::Point> out;
-  while (static_cast<int>(out.size()) < count) {
-    const cv::Point p(rng.uniformInt(mask.cols), rng.uniformInt(mask.rows));
-    if ((mask.at<uint8_t>(p) != 0) == inside) out.push_back(p);
-  }
-  return out;
-}
-
 // The loss's gradient against central differences, at random interior pixels, random mask-edge
 // pixels and pixels outside the mask (whose gradient must be 0), for a render that differs from
 // the photo in texture, scale and color (so every group contributes).
@@ -52,11 +39,11 @@ TEST(Features_TextureLoss, gradient_matches_finite_differences) {
   const cv::Mat photo = stripes(size, 7.0, 30.0);
   cv::Mat render = noise(size, 1.5, 7) * 0.8 + checker(size, 5) * 0.3;
   TextureLossTarget target(photo, mask);
-  std::vector<cv::Point> pixels = samplePixels(mask, true, 12, 1);
+  std::vector<cv::Point> pixels = randomPixels(mask, true, 12, 1);
   const std::vector<cv::Point> edge = edgePixels(mask);
   Rng rng(2);
   for (int i = 0; i < 12; ++i) pixels.push_back(edge[rng.uniformInt(edge.size())]);
-  const std::vector<cv::Point> outside = samplePixels(mask, false, 4, 3);
+  const std::vector<cv::Point> outside = randomPixels(mask, false, 4, 3);
   pixels.insert(pixels.end(), outside.begin(), outside.end());
   const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 1e-2);
   EXPECT_EQ(r.checked, 3 * 28);

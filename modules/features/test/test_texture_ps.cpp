@@ -13,20 +13,7 @@
 namespace ps {
 namespace {
 
-using test::checker;
-using test::diskMask;
-using test::noise;
-using test::stripes;
-
-std::vector<cv::Point> pixelsOf(const cv::Mat& mask, bool inside, int count, uint64_t seed) {
-  Rng rng(seed);
-  std::vector<cv::Point> out;
-  while (static_cast<int>(out.size()) < count) {
-    const cv::Point p(rng.uniformInt(mask.cols), rng.uniformInt(mask.rows));
-    if ((mask.at<uint8_t>(p) != 0) == inside) out.push_back(p);
-  }
-  return out;
-}
+using namespace test;  // texture_fixtures.hpp
 
 // Only one joint-statistics group weighted (the descriptor's groups off).
 TextureLossOptions onlyGroup(int group) {
@@ -197,8 +184,8 @@ TEST(Features_TexturePs, each_group_gradient_matches_finite_differences) {
   cv::rectangle(mask, cv::Rect(60, 33, 18, 3), cv::Scalar(255), cv::FILLED);
   const cv::Mat photo = stripes(size, 7.0, 30.0) + checker(size, 9) * 0.2;
   const cv::Mat render = noise(size, 1.5, 7) * 0.8 + checker(size, 5) * 0.3;
-  std::vector<cv::Point> pixels = pixelsOf(mask, true, 14, 1);
-  const std::vector<cv::Point> outside = pixelsOf(mask, false, 3, 3);
+  std::vector<cv::Point> pixels = randomPixels(mask, true, 14, 1);
+  const std::vector<cv::Point> outside = randomPixels(mask, false, 3, 3);
   pixels.insert(pixels.end(), outside.begin(), outside.end());
   pixels.push_back({77, 34});  // the thin arm
   for (int group = 0; group < 5; ++group) {
@@ -244,7 +231,7 @@ TEST(Features_TexturePs, combined_loss_and_defaults_unchanged) {
   for (double v : b.psGroupLoss) ps += v;
   EXPECT_GT(ps, 0.0);
   EXPECT_NEAR(lb, la + ps, 1e-9 * lb);
-  EXPECT_LT(fdErrorOverLargest(joint, render, pixelsOf(mask, true, 12, 5), 3e-3), 1e-2);
+  EXPECT_LT(fdErrorOverLargest(joint, render, randomPixels(mask, true, 12, 5), 3e-3), 1e-2);
 }
 
 // One-pixel, corner, strip and full masks with black, saturated and high-contrast images: every
@@ -361,8 +348,8 @@ TEST(Features_TexturePlacement, sees_the_offset_and_nothing_else) {
   const double shifted = placementLoss(target, checker(size, 12, {4, 4}));
   EXPECT_LT(noisy, 0.2 * shifted) << noisy << " vs " << shifted;
 
-  std::vector<cv::Point> pixels = pixelsOf(mask, true, 16, 2);
-  const std::vector<cv::Point> outside = pixelsOf(mask, false, 4, 4);
+  std::vector<cv::Point> pixels = randomPixels(mask, true, 16, 2);
+  const std::vector<cv::Point> outside = randomPixels(mask, false, 4, 4);
   pixels.insert(pixels.end(), outside.begin(), outside.end());
   const cv::Mat render = checker(size, 12, {5, 2}) + noise(size, 1.0, 5) * 0.3;
   const TextureLossGradientCheck r = checkPlacementLossGradient(target, render, pixels, 1e-3);

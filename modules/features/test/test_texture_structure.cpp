@@ -11,10 +11,7 @@
 namespace ps {
 namespace {
 
-using test::checker;
-using test::diskMask;
-using test::noise;
-using test::stripes;
+using namespace test;  // texture_fixtures.hpp
 
 cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {
   cv::Mat out = img.clone();

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace ps::test {
 
@@ -62,6 +63,19 @@ inline cv::Mat diskMask(cv::Size size, cv::Point center, int radius) {
 /// A disk of about 20k pixels centered in a 320 x 240 image (radius 80: 20,100 pixels).
 inline cv::Mat partMask320() {
   return diskMask({320, 240}, {160, 120}, 80);
+}
+
+/// `count` random pixels (seeded) inside (`inside`) or outside a CV_8UC1 mask, repeats allowed:
+/// where the gradient checks probe.
+inline std::vector<cv::Point> randomPixels(const cv::Mat& mask, bool inside, int count,
+                                           uint64_t seed) {
+  ps::Rng rng(seed);
+  std::vector<cv::Point> out;
+  while (static_cast<int>(out.size()) < count) {
+    const cv::Point p(rng.uniformInt(mask.cols), rng.uniformInt(mask.rows));
+    if ((mask.at<uint8_t>(p) != 0) == inside) out.push_back(p);
+  }
+  return out;
 }
 
 }  // namespace ps::test

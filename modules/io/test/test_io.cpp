@@ -4,6 +4,7 @@
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
+#include "input_error_of.hpp"
 
 namespace ps::io {
 namespace {
@@ -12,20 +13,9 @@ void writeText(const fs::path& p, const std::string& s) {
   std::ofstream(p) << s;
 }
 
-/// Runs f, expects ps::InputError, returns its message.
-template <typename F>
-std::string inputErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("WRONG EXCEPTION TYPE: ") + e.what();
-  }
-  return "NO EXCEPTION";
-}
+using test::contains;
+using test::inputErrorOf;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 TEST(Io_Image, png8_round_trip_within_one_level) {
   TempDir dir;

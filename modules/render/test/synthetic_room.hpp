@@ -17,6 +17,7 @@ namespace ps::testroom {
 using ps::test::addPart;
 using ps::test::addQuad;
 using ps::test::addTriangle;
+using ps::test::lambert;
 using ps::test::lookAt;
 
 struct Room {
@@ -62,13 +63,6 @@ inline Room makeRoom(int width, int height, float lightRadiance = 12.0f) {
   return r;
 }
 
-inline PartMaterial lambert(const std::string& name, float albedo) {
-  PartMaterial m = PartMaterial::defaultGray(name);
-  m.albedo = Vec3f::Constant(albedo);
-  m.roughness = 1.0f;
-  m.specular = 0.0f;
-  return m;
-}
 
 /// Path-tracer options of a reference render: `spp` samples, a one-pixel box filter.
 inline RenderOptions boxFilterOptions(int spp, uint64_t seed) {

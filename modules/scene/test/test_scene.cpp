@@ -6,25 +6,16 @@
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/scene.hpp"
+// the bad-input helpers of the io tests (test-only code, shared rather than copied)
+#include "../../io/test/input_error_of.hpp"
 
 namespace ps {
 namespace {
 
 using io::TempDir;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-template <typename F>
-std::string inputErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("WRONG EXCEPTION TYPE: ") + e.what();
-  }
-  return "NO EXCEPTION";
-}
+using test::contains;
+using test::inputErrorOf;
 
 Mat4d lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
   return io::lookAtWorldToCamera(eye, target, up);
@@ -296,8 +287,11 @@ TEST(Scene_Load, blender_room_example_when_present) {
   for (const auto& [value, part] : s.views[0].segmentParts) EXPECT_GE(part, 0);
   // the emitter parts face down
   const int light0 = s.partId("light_0");
-  for (size_t t = 0; t < s.mesh.numTriangles(); ++t)
-    if (s.mesh.partIds[t] == light0) EXPECT_LT(s.mesh.faceNormal(static_cast<int>(t)).y(), -0.99f);
+  for (size_t t = 0; t < s.mesh.numTriangles(); ++t) {
+    if (s.mesh.partIds[t] == light0) {
+      EXPECT_LT(s.mesh.faceNormal(static_cast<int>(t)).y(), -0.99f);
+    }
+  }
 }
 
 TEST(Scene_Load, sunrgbd_example_gets_automatic_ceiling_lights) {
