@@ -9,10 +9,10 @@
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <limits>
 
 #include "photoscene/core.hpp"
-#include "photoscene/io.hpp"
 #include "photoscene/lighting.hpp"
 #include "stages.hpp"
 
@@ -79,7 +79,7 @@ class LightsStage : public Stage {
       // exposure and changes nothing else (the alternation does not start far from it)
       d.photo = photo / exposure_[v];
       d.mask = ctx.views[v].lightMask.clone();
-      if (!io::readImageInfo(scene.views[v].imagePath).isFloat) {
+      if (std::isfinite(in.photoClip(v, 1.0))) {
         // an integer-coded photo clips at 1: its saturated pixels (any channel) say nothing; a
         // float photo (EXR, HDR) does not clip, and all of it counts at any exposure
         std::vector<cv::Mat> ch;
