@@ -17,16 +17,6 @@ cv::Mat constantMap(const Vec3f& v) {
   return cv::Mat(4, 4, CV_32FC3, cv::Scalar(v.x(), v.y(), v.z()));
 }
 
-/// Mean of a CV_32FC3 image over `pixels`.
-cv::Scalar meanOver(const cv::Mat& image, const std::vector<cv::Point>& pixels) {
-  cv::Scalar s(0, 0, 0);
-  for (const cv::Point& q : pixels) {
-    const cv::Vec3f c = image.at<cv::Vec3f>(q);
-    for (int k = 0; k < 3; ++k) s[k] += c[k];
-  }
-  return pixels.empty() ? s : s / static_cast<double>(pixels.size());
-}
-
 /// Sum over the views' pixels of min(i0 + a d, clip) in channel k.
 double clippedSum(const std::vector<PartView>& views, const std::vector<cv::Mat>& i0,
                   const std::vector<cv::Mat>& d, int k, double a) {
@@ -39,13 +29,14 @@ double clippedSum(const std::vector<PartView>& views, const std::vector<cv::Mat>
   return s;
 }
 
-/// The albedo of channel k whose render, clipped at each view's PartView::clip, sums to the
-/// photo's `photoSum` (file comment); `linear` is the unclipped closed form, a lower bound (the
-/// clipped sum is at most the unclipped one). Returns `linear` where no clip is finite or no
-/// render pixel reaches it; above 1 where even albedo 1 falls short (the caller clamps and warns).
-float censoredAlbedo(const std::vector<PartView>& views, const std::vector<cv::Mat>& i0,
-                     const std::vector<cv::Mat>& d, int k, double photoSum, float linear) {
-  bool reaches = false;  // does the render at the closed form reach a clip level anywhere?
+/// The coefficient a of a render i0 + a d (per view; d >= 0) whose sum over the views' pixels,
+/// clipped at each view's PartView::clip, is the photo's `photoSum` in channel k (file comment).
+/// `linear` is the unclipped solution, a lower bound (clipping only lowers the sum). Returns
+/// `linear` where no render pixel reaches a finite clip or its clipped sum already suffices;
+/// above the search's reach (64) where the photo's sum cannot be reached (the caller clamps).
+double censoredSolve(const std::vector<PartView>& views, const std::vector<cv::Mat>& i0,
+                     const std::vector<cv::Mat>& d, int k, double photoSum, double linear) {
+  bool reaches = false;  // does the render at the linear solution reach a clip level anywhere?
   for (size_t v = 0; v < views.size() && !reaches; ++v) {
     if (!std::isfinite(views[v].clip)) continue;
     for (const cv::Point& q : views[v].geometry->pixels)
@@ -54,20 +45,19 @@ float censoredAlbedo(const std::vector<PartView>& views, const std::vector<cv::M
         break;
       }
   }
-  if (!reaches) return linear;
-  double lo = linear;
+  if (!reaches || clippedSum(views, i0, d, k, linear) >= photoSum) return linear;
   // the clipped sum grows with a (no faster than the unclipped one): bracket, then bisect
-  double hi = std::max(2.0 * lo, 1e-3);
+  double lo = linear, hi = std::max(2.0 * lo, 1e-3);
   while (clippedSum(views, i0, d, k, hi) < photoSum) {
     lo = hi;
     hi *= 2;
-    if (hi > 64) return static_cast<float>(hi);  // the photo's mean is out of reach: clamped
+    if (hi > 64) return hi;  // the photo's sum is out of reach
   }
-  for (int it = 0; it < 40 && hi - lo > 1e-6 * hi; ++it) {
+  for (int it = 0; it < 40 && hi - lo > 1e-6 * std::abs(hi); ++it) {
     const double mid = 0.5 * (lo + hi);
     (clippedSum(views, i0, d, k, mid) < photoSum ? lo : hi) = mid;
   }
-  return static_cast<float>(0.5 * (lo + hi));
+  return 0.5 * (lo + hi);
 }
 }  // namespace
 
@@ -154,7 +144,7 @@ HomogeneousFit fitHomogeneous(const std::vector<PartView>& views, const std::vec
       const double diffuse = sd[k] / n;
       albedo[k] = diffuse > 1e-9 ? static_cast<float>((photoSum[k] - s0[k]) / n / diffuse) : 0.5f;
       if (diffuse > 1e-9 && albedo[k] > 0)
-        albedo[k] = censoredAlbedo(views, i0, d, k, photoSum[k], albedo[k]);
+        albedo[k] = static_cast<float>(censoredSolve(views, i0, d, k, photoSum[k], albedo[k]));
     }
     const float over = albedo.maxCoeff();
     albedo = albedo.cwiseMax(0.0f).cwiseMin(1.0f);
@@ -232,37 +222,16 @@ TexturedRefine refineTextured(const PartGeometry& geo, const cv::Mat& photo, con
         o[k] =
             std::clamp(static_cast<float>((mp[k] - m0[k] - s * md[k]) / (s * mw[k])), -0.5f, 0.5f);
     if (std::isfinite(clip)) {
-      // where the photo clips, the channel's offset matches its mean with the render clipped
-      // (the clipped mean rises with the offset: w >= 0): bisection above the linear solution
-      const auto clippedMean = [&](int k, float offset) {
-        double sum = 0;
-        for (const cv::Point& q : geo.pixels)
-          sum += std::min(double(i0.at<cv::Vec3f>(q)[k]) +
-                              s * (d.at<cv::Vec3f>(q)[k] + offset * w.at<cv::Vec3f>(q)[k]),
-                          double(clip));
-        return sum / std::max<size_t>(1, geo.pixels.size());
-      };
-      const cv::Scalar target = meanOver(photo, geo.pixels);
-      const auto reaches = [&](int k) {
-        for (const cv::Point& q : geo.pixels)
-          if (i0.at<cv::Vec3f>(q)[k] + s * (d.at<cv::Vec3f>(q)[k] + o[k] * w.at<cv::Vec3f>(q)[k]) >
-              clip)
-            return true;
-        return false;
-      };
-      for (int k = 0; k < 3; ++k) {
-        if (mw[k] <= 1e-9 || !reaches(k) || clippedMean(k, o[k]) >= target[k]) continue;
-        float lo = o[k], hi = 0.5f;
-        if (clippedMean(k, hi) < target[k]) {
-          o[k] = hi;
-          continue;
-        }
-        for (int it = 0; it < 30 && hi - lo > 1e-5f; ++it) {
-          const float mid = 0.5f * (lo + hi);
-          (clippedMean(k, mid) < target[k] ? lo : hi) = mid;
-        }
-        o[k] = 0.5f * (lo + hi);
-      }
+      // where the photo clips, each channel's offset matches its mean with the render clipped:
+      // the render is (i0 + s d) + o (s w), the censored solve's form in o (bounded at 0.5)
+      const std::vector<PartView> view = {{&geo, photo, clip}};
+      const std::vector<cv::Mat> base = {i0 + d * s}, slope = {w * s};
+      double photoSum[3] = {0, 0, 0};
+      for (const cv::Point& q : geo.pixels)
+        for (int k = 0; k < 3; ++k) photoSum[k] += photo.at<cv::Vec3f>(q)[k];
+      for (int k = 0; k < 3; ++k)
+        if (mw[k] > 1e-9)
+          o[k] = std::min(0.5f, static_cast<float>(censoredSolve(view, base, slope, k, photoSum[k], o[k])));
     }
     const cv::Mat render = i0 + (d + w.mul(cv::Scalar(o.x(), o.y(), o.z()))) * s;
     const double loss = statLoss(photo, render, geo.pixels, nullptr) +
