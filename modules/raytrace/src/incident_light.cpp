@@ -47,6 +47,15 @@ Vec3f IncidentLightGrid::shade(int gx, int gy, const MicrofacetBsdf& bsdf, const
   return sum;
 }
 
+Vec3f IncidentLightGrid::irradiance(int gx, int gy) const {
+  Vec3f e = Vec3f::Zero();
+  for (int i = 0; i < thetaBins; ++i) {
+    const float cosT = 1.0f - (i + 0.5f) / thetaBins;
+    for (int j = 0; j < phiBins; ++j) e += at(gx, gy, i, j) * cosT;
+  }
+  return e * binSolidAngle();
+}
+
 IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& gb,
                                        const Camera& camera, const IncidentLightOptions& o) {
   PS_Check(o.stride >= 1 && o.thetaBins >= 1 && o.phiBins >= 1 && o.samplesPerBin >= 1 &&
@@ -78,6 +87,7 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
   RenderOptions afterFirst = o.render;
   afterFirst.maxBounces = std::max(0, o.render.maxBounces - 1);
   afterFirst.maxDiffuseBounces = std::max(0, o.render.maxDiffuseBounces - 1);
+  std::vector<AlbedoSensitivity> pointSensitivity(o.albedoSensitivity ? n : 0);
   parallelFor(0, static_cast<int64_t>(n), [&](int64_t k) {
     const int gx = static_cast<int>(k % g.width), gy = static_cast<int>(k / g.width);
     const int px = g.pixelX(gx, camera.width()), py = g.pixelY(gy, camera.height());
@@ -121,10 +131,13 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
         direct[static_cast<size_t>(bi) * o.phiBins + bj] += s.value / (M * binOmega);
       }
     }
+    AlbedoSensitivity binSensitivity, sampleSensitivity;
+    AlbedoSensitivity* const sens = o.albedoSensitivity ? &sampleSensitivity : nullptr;
     for (int i = 0; i < o.thetaBins; ++i)
       for (int j = 0; j < o.phiBins; ++j) {
         Vec3f sum = Vec3f::Zero();
         int used = 0;
+        binSensitivity.clear();
         for (int s = 0; s < o.samplesPerBin; ++s) {
           const float cosT = 1.0f - (i + rng.uniform()) / o.thetaBins;
           const float phi = 2 * kPi * (j + rng.uniform()) / o.phiBins;
@@ -134,17 +147,29 @@ IncidentLightGrid computeIncidentLight(const PathTracer& tracer, const GBuffer& 
             ++used;
             continue;
           }
-          const Vec3f L = tracer.radiance(org, dir, afterFirst, rng, nullptr, firstPdf);
+          sampleSensitivity.clear();
+          const Vec3f L = tracer.radiance(org, dir, afterFirst, rng, nullptr, firstPdf, sens);
           if (L.allFinite()) {
             sum += L;
             ++used;
+            // irradiance: this sample's radiance times its cosine, the bin's mean times dOmega
+            if (sens) binSensitivity.addScaled(sampleSensitivity, l.z());
           }
         }
+        if (sens && used) pointSensitivity[k].addScaled(binSensitivity, binOmega / used);
         g.radiance[(k * o.thetaBins + i) * o.phiBins + j] =
             (used ? Vec3f(sum / used) : Vec3f::Zero()) +
             (direct.empty() ? Vec3f::Zero() : direct[static_cast<size_t>(i) * o.phiBins + j]);
       }
   });
+  if (o.albedoSensitivity) {
+    g.sensitivityStart.assign(1, 0);
+    for (const AlbedoSensitivity& s : pointSensitivity) {
+      g.sensitivityPart.insert(g.sensitivityPart.end(), s.part.begin(), s.part.end());
+      g.sensitivityValue.insert(g.sensitivityValue.end(), s.value.begin(), s.value.end());
+      g.sensitivityStart.push_back(static_cast<int>(g.sensitivityPart.size()));
+    }
+  }
   return g;
 }
 

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 
@@ -347,11 +348,25 @@ struct Tracer final : LightRays {
   // samples of each light to that light); the return value is then their sum.
   template <class Sampler>
   Vec3f path(Vec3f org, Vec3f dir, const Sampler& smp, Vec3f* perLight = nullptr,
-             FirstHit* first = nullptr, float firstPdf = 0) {
+             FirstHit* first = nullptr, float firstPdf = 0, AlbedoSensitivity* sens = nullptr) {
     Vec3f Lsum = Vec3f::Zero(), beta = Vec3f::Ones();
+    // the scatterings so far (sens only): part and the diffuse share of its BSDF value there
+    constexpr int kMaxVertices = 32;
+    std::array<int, kMaxVertices> vertexPart{};
+    std::array<Vec3f, kMaxVertices> vertexShare;
+    int vertices = 0;
     auto add = [&](int light, const Vec3f& c) {
       Lsum += c;
       if (perLight) perLight[light] += c;
+      if (sens)
+        for (int k = 0; k < vertices; ++k) sens->add(vertexPart[k], c.cwiseProduct(vertexShare[k]));
+    };
+    // the share of a BSDF value f that its diffuse lobe carries (per channel, in [0, 1])
+    auto diffuseShare = [](const Vec3f& f, const Vec3f& fSpecular) {
+      Vec3f s;
+      for (int c = 0; c < 3; ++c)
+        s[c] = f[c] > 0 ? std::clamp((f[c] - fSpecular[c]) / f[c], 0.0f, 1.0f) : 0.0f;
+      return s;
     };
     Vec3f prevPos =
         org;  // the last scattering point (MIS pdfs of light strategies are taken there)
@@ -423,7 +438,10 @@ struct Tracer final : LightRays {
           if (f.maxCoeff() > 0) {
             const float bp = bsdf.pdf(woL, wiL);
             const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bp);
-            add(light, beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf));
+            const Vec3f c = beta.cwiseProduct(f).cwiseProduct(ls.Le) * (wiL.z() * w / ls.pdf);
+            add(light, c);
+            if (sens)  // this vertex's BSDF is in it too
+              sens->add(sp.part, c.cwiseProduct(diffuseShare(f, bsdf.evalSpecular(woL, wiL))));
           }
         };
         LightSample ls;
@@ -450,6 +468,11 @@ struct Tracer final : LightRays {
       if (wi.dot(ngo) <= 0) break;  // below the geometric surface
       beta = beta.cwiseProduct(bs.f) * (bs.wi.z() / bs.pdf);
       if (!beta.allFinite() || beta.maxCoeff() <= 0) break;
+      if (sens && vertices < kMaxVertices) {
+        vertexPart[vertices] = sp.part;
+        vertexShare[vertices] = diffuseShare(bs.f, bsdf.evalSpecular(woL, bs.wi));
+        ++vertices;
+      }
       prevPdf = bs.pdf;
       prevPos = sp.p;
 
@@ -566,14 +589,34 @@ ActiveLights makeActive(const Scene& scene, const PathTracer::Lights& L,
 }  // namespace
 
 Vec3f PathTracer::radiance(const Vec3f& org, const Vec3f& dir, const RenderOptions& options,
-                           Rng& rng, uint64_t* rays, float firstPdf) const {
+                           Rng& rng, uint64_t* rays, float firstPdf,
+                           AlbedoSensitivity* sensitivity) const {
   const ActiveLights act = makeActive(scene_, *lights_, options.lights);
   Tracer tr{*this, *lights_, act, options, *accel_};
   const IndependentSampler smp(rng);
+  AlbedoSensitivity own;
   Vec3f L = tr.path(org, dir.normalized(), smp, nullptr, nullptr,
-                    options.nextEventEstimation ? firstPdf : 0.0f);
+                    options.nextEventEstimation ? firstPdf : 0.0f, sensitivity ? &own : nullptr);
   if (rays) *rays += tr.rays;
-  return L.allFinite() ? L : Vec3f::Zero();
+  if (!L.allFinite()) return Vec3f::Zero();
+  if (sensitivity)
+    for (size_t i = 0; i < own.part.size(); ++i)
+      if (own.value[i].allFinite()) sensitivity->add(own.part[i], own.value[i]);
+  return L;
+}
+
+void AlbedoSensitivity::add(int p, const Vec3f& v) {
+  for (size_t i = 0; i < part.size(); ++i)
+    if (part[i] == p) {
+      value[i] += v;
+      return;
+    }
+  part.push_back(p);
+  value.push_back(v);
+}
+
+void AlbedoSensitivity::addScaled(const AlbedoSensitivity& other, float s) {
+  for (size_t i = 0; i < other.part.size(); ++i) add(other.part[i], other.value[i] * s);
 }
 
 std::vector<DirectLightSample> PathTracer::sampleDirectLight(const Vec3f& p, const Vec3f& org,

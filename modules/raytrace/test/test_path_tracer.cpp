@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <map>
+
 #include "test_scenes.hpp"
 
 namespace ps {
@@ -798,5 +800,72 @@ TEST(Raytrace_Adaptive, threshold_zero_is_the_plain_render_and_a_threshold_spend
   EXPECT_FALSE(opt.IsValid(&err));
 }
 
+
+TEST(Raytrace_IncidentLight, albedo_sensitivity_matches_finite_differences) {
+  // What the grid's irradiance owes to a part's diffuse albedo (IncidentLightGrid::
+  // albedoSensitivity) must be the derivative of the irradiance with respect to that albedo's
+  // log scale: checked by central differences, scaling the plain walls' albedo and the textured,
+  // partly glossy floor's albedo map by 1 +- 0.3, summed over the grid and over 10 seeds (the
+  // paths' noise between traces at different albedos is what limits the check).
+  BoxRoomView room(48, 36);
+  const GBuffer gb = renderGBuffer(room.tracer, room.cam, {1});
+  const int walls = 1, floor = 0;
+  auto totalIrradiance = [&](const IncidentLightGrid& g) {
+    Vec3d e = Vec3d::Zero();
+    for (int gy = 0; gy < g.height; ++gy)
+      for (int gx = 0; gx < g.width; ++gx)
+        if (g.valid[static_cast<size_t>(gy) * g.width + gx]) e += g.irradiance(gx, gy).cast<double>();
+    return e;
+  };
+  const float h = 0.3f;  // the traces' noise over the difference falls with h; s^3 terms err 3 %
+  std::map<int, Vec3d> analytic, fd;
+  Vec3d total = Vec3d::Zero();
+  for (int seed = 0; seed < 10; ++seed) {
+    IncidentLightOptions o;
+    o.stride = 4;
+    o.samplesPerBin = 4;
+    o.render.seed = 5 + seed;
+    o.albedoSensitivity = true;
+    const IncidentLightGrid g = computeIncidentLight(room.tracer, gb, room.cam, o);
+    ASSERT_EQ(g.sensitivityStart.size(), g.valid.size() + 1);
+    for (size_t k = 0; k + 1 < g.sensitivityStart.size(); ++k)
+      for (int e = g.sensitivityStart[k]; e < g.sensitivityStart[k + 1]; ++e) {
+        ASSERT_TRUE(g.sensitivityValue[e].allFinite());
+        EXPECT_GE(g.sensitivityValue[e].minCoeff(), 0.0f);
+        const auto it = analytic.try_emplace(g.sensitivityPart[e], Vec3d::Zero()).first;
+        it->second += g.sensitivityValue[e].cast<double>();
+      }
+    o.albedoSensitivity = false;
+    const Vec3d base = totalIrradiance(computeIncidentLight(room.tracer, gb, room.cam, o));
+    EXPECT_LT((totalIrradiance(g) - base).norm(), 1e-6 * base.norm());  // recording changes nothing
+    total += base;
+    for (int part : {walls, floor}) {
+      PartMaterial& m = room.mats[part];
+      const PartMaterial keep = m;
+      auto scaled = [&](float s) {
+        m = keep;
+        if (m.albedoMap.empty())
+          m.albedo = keep.albedo * s;
+        else
+          m.albedoScale = keep.albedoScale * s;
+        return totalIrradiance(computeIncidentLight(room.tracer, gb, room.cam, o));
+      };
+      const Vec3d d = (scaled(1 + h) - scaled(1 - h)) / (2 * h);
+      m = keep;
+      fd.try_emplace(part, Vec3d::Zero()).first->second += d;
+    }
+  }
+  for (int part : {walls, floor}) {
+    const Vec3d an = analytic[part], f = fd[part];
+    std::printf("part %d: d E / d ln a analytic (%.3f %.3f %.3f) finite differences (%.3f %.3f "
+                "%.3f) of E (%.3f %.3f %.3f)\n",
+                part, an.x(), an.y(), an.z(), f.x(), f.y(), f.z(), total.x(), total.y(),
+                total.z());
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GT(an[c], 0.05 * total[c]);  // the walls and the floor do light the room
+      EXPECT_NEAR(an[c] / f[c], 1.0, 0.1) << "part " << part << " channel " << c;
+    }
+  }
+}
 }  // namespace
 }  // namespace ps

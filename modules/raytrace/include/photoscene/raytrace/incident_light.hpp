@@ -40,6 +40,10 @@ struct IncidentLightOptions {
   /// part is not traced and stays invalid; the others are the same as without the list (each
   /// point draws from its own random stream).
   std::vector<uint8_t> parts;
+  /// Also record, per grid point, what its irradiance owes to each part's diffuse albedo
+  /// (IncidentLightGrid::albedoSensitivity): what a fit needs to correct for light that its
+  /// own albedos bounce back onto it.
+  bool albedoSensitivity = false;
 };
 
 struct IncidentLightGrid {
@@ -52,6 +56,13 @@ struct IncidentLightGrid {
   std::vector<Vec3f> radiance;  ///< [((gy * width + gx) * thetaBins + i) * phiBins + j]
   std::vector<uint8_t> valid;   ///< per grid point: 1 where the pixel sees a surface
   std::vector<Vec3f> position, frameT, frameB, frameN;  ///< per grid point, world space
+  /// With IncidentLightOptions::albedoSensitivity: per grid point, per part, d E / d ln a_part,
+  /// E the point's irradiance (sum over bins of L cos dOmega, linear RGB) and a_part the scale
+  /// of the part's diffuse albedo (AlbedoSensitivity), in compressed rows: point k's entries
+  /// are [sensitivityStart[k], sensitivityStart[k + 1]) of sensitivityPart / sensitivityValue.
+  /// Empty without the option.
+  std::vector<int> sensitivityStart, sensitivityPart;
+  std::vector<Vec3f> sensitivityValue;
 
   int pixelX(int gx, int imageWidth) const;
   int pixelY(int gy, int imageHeight) const;
@@ -65,6 +76,8 @@ struct IncidentLightGrid {
   /// Reflected radiance toward local direction woLocal: sum over bins of L f(wo, d) cos dOmega,
   /// with each bin's BRDF and cosine averaged over `sub` x `sub` sub-directions (sub >= 1).
   Vec3f shade(int gx, int gy, const MicrofacetBsdf& bsdf, const Vec3f& woLocal, int sub = 2) const;
+  /// Irradiance at grid point (gx, gy): sum over bins of L cos(bin centre) dOmega.
+  Vec3f irradiance(int gx, int gy) const;
 };
 
 /// Traces the grid for `camera` (the size of `gbuffer`, which must come from the same camera).

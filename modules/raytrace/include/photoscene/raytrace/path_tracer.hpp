@@ -115,6 +115,24 @@ struct DirectLightSample {
   Vec3f wi, value;
 };
 
+/// What a radiance estimate owes to the diffuse albedo of each part its path scattered on: per
+/// part, d L / d ln(scale of the part's diffuse albedo), linear RGB. A contribution that passed
+/// through k scatterings on a part scales with that part's diffuse albedo to the k-th power in
+/// its diffuse share; the sum is what a first-order change of that albedo changes (the grid
+/// point's own scattering is not on the path: radiance() starts at the next surface). Entries
+/// are few (the parts one path touches), kept in a flat list.
+struct AlbedoSensitivity {
+  std::vector<int> part;
+  std::vector<Vec3f> value;
+  void add(int p, const Vec3f& v);
+  /// this += s * other
+  void addScaled(const AlbedoSensitivity& other, float s);
+  void clear() {
+    part.clear();
+    value.clear();
+  }
+};
+
 struct SurfacePoint {
   Vec3f p = Vec3f::Zero();
   Vec3f ng = Vec3f::Zero();  ///< unit geometric normal (winding order), not flipped
@@ -154,8 +172,11 @@ class PathTracer {
   /// against sampleDirectLight's samples from `org`, firstPdf being the direction sampling's
   /// density per light sample (the gatherer's samples per steradian over its light samples per
   /// light); the gatherer adds those samples (DirectLightSample) with the complementary weight.
+  /// `sensitivity` (optional) is added to: what the returned radiance owes to each part's
+  /// diffuse albedo (AlbedoSensitivity).
   Vec3f radiance(const Vec3f& org, const Vec3f& dir, const RenderOptions& options, Rng& rng,
-                 uint64_t* rays = nullptr, float firstPdf = 0) const;
+                 uint64_t* rays = nullptr, float firstPdf = 0,
+                 AlbedoSensitivity* sensitivity = nullptr) const;
   /// `n` samples of every active light with a shape (area emitters; not the environment, whose
   /// light a direction sampler finds well) seen from surface point `p` (geometric normal `ng`,
   /// facing the side to light; shadow rays from `org`, offset off the surface), each light at
