@@ -55,6 +55,9 @@ void putGrid(Archive& a, const IncidentLightGrid& g) {
   putVec3s(a, g.frameT);
   putVec3s(a, g.frameB);
   putVec3s(a, g.frameN);
+  a.putVector(g.sensitivityStart);
+  a.putVector(g.sensitivityPart);
+  putVec3s(a, g.sensitivityValue);
 }
 
 IncidentLightGrid getGrid(Archive& a) {
@@ -66,6 +69,9 @@ IncidentLightGrid getGrid(Archive& a) {
   g.frameT = getVec3s(a);
   g.frameB = getVec3s(a);
   g.frameN = getVec3s(a);
+  g.sensitivityStart = a.getVector<int>();
+  g.sensitivityPart = a.getVector<int>();
+  g.sensitivityValue = getVec3s(a);
   return g;
 }
 

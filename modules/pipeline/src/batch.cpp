@@ -290,7 +290,8 @@ std::string csvNumber(double v) {
 // The pipeline's stage order (pipeline.hpp); stages it does not list follow alphabetically.
 const std::vector<std::string> kStageOrder = {"geometry", "align",  "lights0", "incident0",
                                               "select",   "fit",    "lights1", "incident1",
-                                              "refine",   "export", "metrics", "report"};
+                                              "refine",   "bounce", "export", "metrics",
+                                              "report"};
 
 }  // namespace
 

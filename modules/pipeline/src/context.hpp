@@ -130,6 +130,10 @@ struct PartWork {
   Vec3f albedoOffset = Vec3f::Zero();  ///< added to the albedo map before the scale
   float roughnessFactor = 1.0f;
   double refineLoss = 0;
+  // incident1: the mean albedo of the material its grids were traced with (refine0's)
+  Vec3f gridAlbedo = Vec3f::Zero();
+  // bounce: the factor on the mean albedo for the light the new albedos bounce (1: none)
+  Vec3f bounceFactor = Vec3f::Ones();
   bool textured() const { return mode == PartMode::Fit; }
 };
 
@@ -195,6 +199,11 @@ struct ContextTesting {
 /// `parts.{}.fixed`), or fitted (+ select, fit, refine0; maps at `mapSize`; `library`).
 std::vector<PartMaterial> neutralMaterials(const Context& ctx, const Reads& in);
 std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize);
+/// A fitted part's albedo averaged over its material as fittedMaterials renders it
+/// (homogeneous: its albedo; textured: clamp(albedoScale (map + albedoOffset), 0, 1) averaged
+/// over the map at the fit's map size). `mapMean` (optional, textured): the map's own mean.
+Vec3f meanAlbedo(const Context& ctx, const Reads& in, const PartWork& part,
+                 Vec3f* mapMean = nullptr);
 
 /// A homogeneous part's closed-form fit (optim's fitHomogeneous) over the views fitViews names
 /// (`fit_views`): `geometry` and `photo` are its chosen view's (photo divided by that view's

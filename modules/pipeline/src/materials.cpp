@@ -45,6 +45,24 @@ HomogeneousFit fitHomogeneousPart(const Context& ctx, const Reads& in, const Par
   return fitHomogeneous(pv, roughnessGrid(candidates), homogeneousRoughness(in.fitOptions()));
 }
 
+Vec3f meanAlbedo(const Context&, const Reads& in, const PartWork& p, Vec3f* mapMean) {
+  if (p.mode != PartMode::Fit) return (p.albedo * p.albedoScale).cwiseMin(1.0f);
+  MaterialGraph g = in.library().create(p.graph);
+  g.setValues(p.values);
+  const cv::Mat albedo = g.evaluate(in.fitOptions().mapSize, MapSet::of({MapKind::Albedo})).albedo;
+  Vec3d sum = Vec3d::Zero(), raw = Vec3d::Zero();
+  for (int y = 0; y < albedo.rows; ++y)
+    for (int x = 0; x < albedo.cols; ++x) {
+      const cv::Vec3f& t = albedo.at<cv::Vec3f>(y, x);
+      const Vec3f m(t[0], t[1], t[2]);
+      raw += m.cast<double>();
+      sum += (p.albedoScale * (m + p.albedoOffset)).cwiseMax(0.0f).cwiseMin(1.0f).cast<double>();
+    }
+  const double n = std::max<double>(1, albedo.total());
+  if (mapMean) *mapMean = (raw / n).cast<float>();
+  return (sum / n).cast<float>();
+}
+
 std::vector<PartMaterial> fittedMaterials(const Context& ctx, const Reads& in, int mapSize) {
   std::vector<PartMaterial> mats = neutralMaterials(ctx, in);
   for (const PartWork& p : ctx.parts) {

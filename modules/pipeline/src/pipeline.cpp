@@ -30,7 +30,8 @@ StageList pipelineStages(const PipelineOptions& options) {
     s.push_back(makeLightsStage(1));    // the global solve with the fitted materials
     s.push_back(makeIncidentStage(1));  // per view: new grids
     s.push_back(makeRefineStage(1));    // per part: the second round
-    s.push_back(makeExportStage({"parts", "observe", "select", "fit", "refine1", "lights1"}));
+    s.push_back(makeBounceStage());     // the albedos consistent with the light they bounce
+    s.push_back(makeExportStage({"parts", "observe", "select", "fit", "refine1", "bounce", "lights1"}));
   } else {
     s.push_back(makeBaselineStage(options.baseline));  // under lights0
     s.push_back(makeExportStage({"parts", "observe", "pin", "lights0",

@@ -132,6 +132,8 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       m.fitExtra["pixels"] = p.pixels;
       m.fitExtra["iterations"] = p.iterations;
       m.fitExtra["refine_loss"] = p.refineLoss;
+      if (p.bounceFactor != Vec3f::Ones())  // stage_bounce.cpp
+        m.fitExtra["bounce_factor"] = {p.bounceFactor[0], p.bounceFactor[1], p.bounceFactor[2]};
       if (ctx.views.size() > 1)  // how every view sees the part: the largest score is fit.view
         for (const ViewSeen& s : p.seen)
           m.fitExtra["views"].push_back({{"view", s.view},

@@ -28,9 +28,11 @@ class IncidentStage : public Stage {
     // 2: grid points only on the parts fitted in the view; 3: paths from a grid point get one
     // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp); 4: the
     // direct light can also be sampled from the lights, combined by MIS
-    // (IncidentLightOptions::directSamples; PresetBudget::incidentDirectSamples, 0 for now)
-    decl.version = 4;
+    // (IncidentLightOptions::directSamples; PresetBudget::incidentDirectSamples, 0 for now);
+    // 5: round 1 records what each point's light owes to each part's albedo (stage_bounce.cpp)
+    decl.version = 5;
     decl.writes = {"ViewWork::grid"};
+    if (round == 1) decl.writes.push_back("PartWork::gridAlbedo");
   }
 
   bool compute(Context& ctx, const Reads& in, int v) override {
@@ -44,6 +46,7 @@ class IncidentStage : public Stage {
     o.samplesPerBin = in.budget().incidentSamples;
     o.directSamples = in.budget().incidentDirectSamples;
     o.render.seed = in.seed() + 101 * v;
+    o.albedoSensitivity = round_ == 1;
     // only the parts fitted in this view read its grid (fit, refine, baselines)
     o.parts.assign(in.litScene().parts.size(), 0);
     int fitted = 0;
@@ -84,9 +87,14 @@ class IncidentStage : public Stage {
     ctx.views[v].grid = getGrid(a);
     return true;
   }
-  void finish(Context&, const Reads&) override {  // the tracer and maps are not needed after
-    tracer_.reset();
+  void finish(Context& ctx, const Reads& in) override {
+    tracer_.reset();  // the tracer and maps are not needed after
     materials_.clear();
+    // the albedos the grids' bounced light comes from (the parts hold refine0's results here)
+    if (round_ == 1)
+      for (PartWork& p : ctx.parts)
+        if (p.mode == PartMode::Fit || p.mode == PartMode::Homogeneous)
+          p.gridAlbedo = meanAlbedo(ctx, in, p);
   }
 
  private:

@@ -19,6 +19,8 @@ std::unique_ptr<Stage> makeIncidentStage(int round);  ///< stage_incident.cpp: l
 std::unique_ptr<Stage> makeSelectStage();             ///< stage_select.cpp: a graph per part
 std::unique_ptr<Stage> makeFitStage();                ///< stage_fit.cpp: the per-part fit
 std::unique_ptr<Stage> makeRefineStage(int round);    ///< stage_refine.cpp: albedo scale, roughness
+/// stage_bounce.cpp: the albedos made consistent with the light they bounce
+std::unique_ptr<Stage> makeBounceStage();
 std::unique_ptr<Stage> makeBaselineStage(Baseline baseline);  ///< stage_baseline.cpp
 /// stage_export.cpp: the output folder; reads the results of `after` (the last stages of the run)
 std::unique_ptr<Stage> makeExportStage(std::vector<std::string> after);
