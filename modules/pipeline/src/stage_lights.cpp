@@ -20,7 +20,7 @@ namespace ps::pipeline {
 
 namespace {
 
-constexpr double kSaturation = 0.99;  ///< linear value at which an 8/16-bit photo is clipped
+constexpr double kSaturation = 0.99;  ///< share of the clip level at which a pixel counts as clipped
 
 class LightsStage : public Stage {
  public:
@@ -41,8 +41,9 @@ class LightsStage : public Stage {
     // 2: float photos (EXR, HDR) are not clipped at 0.99; 3: the photos divided by the
     // exposures known before the solve; 4: round 0 anchored on the parts of given material; 5: a
     // light the photos show (through a window, or its emitter unsaturated) pinned to those
-    // pixels, and a free reflectance factor per part (lighting/solve.hpp)
-    decl.version = 5;
+    // pixels, and a free reflectance factor per part (lighting/solve.hpp); 6: a float photo's
+    // bright pixels count with given emitters too (only an integer-coded photo clips)
+    decl.version = 6;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -79,12 +80,13 @@ class LightsStage : public Stage {
       // exposure and changes nothing else (the alternation does not start far from it)
       d.photo = photo / exposure_[v];
       d.mask = ctx.views[v].lightMask.clone();
-      if (std::isfinite(in.photoClip(v, 1.0))) {
-        // an integer-coded photo clips at 1: its saturated pixels (any channel) say nothing; a
-        // float photo (EXR, HDR) does not clip, and all of it counts at any exposure
+      if (const double clip = in.photoClip(v, 1.0); std::isfinite(clip)) {
+        // an integer-coded photo clips (at 1): its saturated pixels (any channel) say nothing,
+        // nor what is left of them after the given emitters are taken off below; a float photo
+        // (EXR, HDR) does not clip, and all of it counts at any exposure
         std::vector<cv::Mat> ch;
         cv::split(photo, ch);
-        for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation);
+        for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation * clip);
       }
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
       for (size_t k = 0; k < lights.size(); ++k) {
@@ -94,13 +96,7 @@ class LightsStage : public Stage {
           fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
         }
       }
-      if (cv::countNonZero(fixed.reshape(1)) > 0) {
-        // photo - fixed emitters, with saturated pixels left out before the subtraction
-        cv::Mat sat;
-        cv::inRange(photo, cv::Scalar::all(0.99), cv::Scalar::all(1e30), sat);
-        d.mask.setTo(0, sat);
-        d.photo -= fixed;
-      }
+      if (cv::countNonZero(fixed.reshape(1)) > 0) d.photo -= fixed;  // the given emitters' light
       // where each free light is seen itself (its emitting parts, the windows that open onto
       // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
       // mask, whose pixels it does not replace
