@@ -167,12 +167,37 @@ PartTexture preparePartTexture(const cv::Mat& photo, const cv::Mat& mask, const 
     double maxLabel = 0;
     cv::minMaxLoc(pieces, nullptr, &maxLabel);
     cv::Mat flat = cv::Mat::zeros(img.size(), CV_32FC3), kept = cv::Mat::zeros(m.size(), CV_8UC1);
+    // each piece keeps its own mean level after removeSmoothShading; one material has one
+    // albedo on every face, so the levels are brought to the part's pixel-weighted mean (else
+    // the faces of a box meet in texture space as steps of light and dark: read as planks)
+    struct Level {
+      cv::Mat piece;
+      cv::Rect box;
+      double mean = 0;
+      int pixels = 0;
+    };
+    std::vector<Level> levels;
     for (int label = 1; label <= static_cast<int>(maxLabel); ++label) {
       const cv::Mat piece = pieces == label;
-      if (cv::countNonZero(piece) < 32) continue;
+      const int n = cv::countNonZero(piece);
+      if (n < 32) continue;
       const cv::Rect box = cv::boundingRect(piece);
-      removeSmoothShading(img(box), piece(box), shadingSigma).copyTo(flat(box), piece(box));
+      const cv::Mat f = removeSmoothShading(img(box), piece(box), shadingSigma);
+      f.copyTo(flat(box), piece(box));
       kept |= piece;
+      const cv::Scalar mean = cv::mean(f, piece(box));
+      levels.push_back({piece, box, luminance(mean[0], mean[1], mean[2]), n});
+    }
+    if (levels.size() > 1) {
+      double sum = 0, n = 0;
+      for (const Level& l : levels) sum += l.mean * l.pixels, n += l.pixels;
+      const double target = sum / n;
+      for (const Level& l : levels)
+        if (l.mean > 1e-12 * target && target > 0) {
+          cv::Mat region = flat(l.box);
+          const cv::Mat scaled = region * (target / l.mean);
+          scaled.copyTo(region, l.piece(l.box));
+        }
     }
     if (cv::countNonZero(kept) >= 16) {
       img = flat;

@@ -261,6 +261,42 @@ TEST(Select_Part, smooth_shading_is_removed_and_texture_kept) {
   EXPECT_NEAR(sd[0] / m[0], 0.2, 0.04);  // the stripes' own relative contrast (0.1 / 0.5)
 }
 
+TEST(Select_Part, the_faces_of_one_part_meet_at_one_level_in_texture_space) {
+  // Two faces of a box in one mask, one material (stripes of albedo 0.4 / 0.6 along u) under two
+  // shading levels (1.0 and 0.35: a lit top and a side in shadow), each face its own UV chart.
+  // Prepared for the key, both faces must come out at one level (the material's): a step
+  // between them in texture space is an edge the material does not have (it read as planks).
+  const int w = 160, h = 80;
+  cv::Mat img(h, w, CV_32FC3), uv(h, w, CV_32FC2);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool side = x >= w / 2;
+      const float u = (side ? 1.5f : 0.0f) + static_cast<float>(x % (w / 2)) / (w / 2);
+      const float albedo = static_cast<int>(u * 16) % 2 ? 0.6f : 0.4f;
+      const float shade = side ? 0.35f : 1.0f;
+      img.at<cv::Vec3f>(y, x) = cv::Vec3f(albedo, albedo, albedo) * shade;
+      uv.at<cv::Vec2f>(y, x) = cv::Vec2f(u, static_cast<float>(y) / (w / 2));
+    }
+  const cv::Mat mask(h, w, CV_8UC1, cv::Scalar(255));
+  const PartTexture t = preparePartTexture(img, mask, uv, cv::Mat(), 12.0);
+  ASSERT_TRUE(t.unwarped);
+  // the texture spans u in [0, 2.5): the first face on its left 40 %, the second on its right 40 %
+  const int cols = t.image.cols, third = cols * 3 / 10;
+  const cv::Rect left(0, 0, third, t.image.rows), right(cols - third, 0, third, t.image.rows);
+  ASSERT_GT(cv::countNonZero(t.mask(left)), 100);
+  ASSERT_GT(cv::countNonZero(t.mask(right)), 100);
+  const double a = cv::mean(t.image(left), t.mask(left))[0],
+               b = cv::mean(t.image(right), t.mask(right))[0];
+  std::printf("face levels in texture space: %.4f, %.4f (photo: 0.5 and 0.175)\n", a, b);
+  EXPECT_NEAR(b / a, 1.0, 0.03);
+  // the stripes keep their contrast on both faces
+  cv::Scalar m, sd;
+  cv::Mat lum;
+  cv::extractChannel(t.image, lum, 0);
+  cv::meanStdDev(lum(right), m, sd, t.mask(right));
+  EXPECT_NEAR(sd[0] / m[0], 0.2, 0.05);
+}
+
 TEST(Select_Part, unwarping_a_tilted_plane_covers_its_texture) {
   // One draw on a plane tilted by 60 degrees: the prepared texture is in texture space, its
   // coverage (after hole filling) is nearly the whole UV region the plane shows, values are

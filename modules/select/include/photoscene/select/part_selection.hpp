@@ -11,8 +11,9 @@
 //   3. with G-buffer UVs: the mask split into UV-continuous pieces (faces: neighbours whose UVs
 //      jump by more than 4 median pixel footprints are apart; pieces under 32 px dropped), each
 //      piece divided by its own smooth luminance shading estimate (removeSmoothShading, a masked
-//      Gaussian blur of `ExemplarBankOptions::shadingSigma` pixels), so shading gradients and the
-//      shading jumps between faces are not read as texture; then the pixels splatted into texture
+//      Gaussian blur of `ExemplarBankOptions::shadingSigma` pixels) and brought to the part's
+//      pixel-weighted mean level (one material, one albedo on every face), so shading gradients
+//      and the shading jumps between faces are not read as texture; then the pixels splatted into texture
 //      space (align::unwarpToTexture) at the density of the coarser pixel footprints
 //      (`footprintPercentile`), so the far end of a floor still covers its texels, and one-texel
 //      holes closed and filled. This removes the perspective: one texture period spans the same
