@@ -991,6 +991,8 @@ int main(int argc, char** argv) {
                  "a graph's pixel RMSE at most this x homogeneous's (0: no test)");
   app.add_option("--select-contrast-ratio", synthesis.maxContrastRatio,
                  "a graph's typical local contrast at most this x the photo's (0: no test)");
+  app.add_option("--select-coarse-scale", synthesis.coarseContrastScale,
+                 "the contrast test again at this many pixels per cell (0 or 1: no such test)");
   app.add_option("--select-start-draw", startDraw,
                  "1: finalists start from their nearest draw, 0: from their defaults");
   app.add_option("--select-warm-fit", warmFit,
@@ -1016,7 +1018,7 @@ int main(int argc, char** argv) {
   o.lightings = splitList(lightingsArg);
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
-                           "--select-contrast-ratio", "--select-start-draw",
+                           "--select-contrast-ratio", "--select-coarse-scale", "--select-start-draw",
                            "--select-warm-fit"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
@@ -1027,6 +1029,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-margin")) s.textureMargin = synthesis.textureMargin;
       if (app.count("--select-pixel-ratio")) s.maxPixelErrorRatio = synthesis.maxPixelErrorRatio;
       if (app.count("--select-contrast-ratio")) s.maxContrastRatio = synthesis.maxContrastRatio;
+      if (app.count("--select-coarse-scale")) s.coarseContrastScale = synthesis.coarseContrastScale;
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
       o.selection = s;

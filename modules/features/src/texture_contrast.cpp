@@ -16,8 +16,8 @@ LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
   PS_Check(image.type() == CV_32FC3, "typicalLocalContrast: image must be CV_32FC3");
   PS_Check(mask.type() == CV_8UC1 && mask.size() == image.size(),
            "typicalLocalContrast: mask must be CV_8UC1 of the image's size");
-  PS_Check(options.radius >= 1 && options.darkFloor > 0,
-           "typicalLocalContrast: radius must be >= 1 and darkFloor > 0");
+  PS_Check(options.radius >= 1 && options.darkFloor > 0 && options.scale >= 1,
+           "typicalLocalContrast: radius must be >= 1, darkFloor > 0 and scale >= 1");
   LocalContrast out;
   if (cv::countNonZero(mask) == 0) return out;
   cv::Mat lum(image.size(), CV_32F);
@@ -26,21 +26,35 @@ LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
       const float l = luminance(image.at<cv::Vec3f>(y, x));
       lum.at<float>(y, x) = std::isfinite(l) && l > 0 ? l : 0.0f;
     }
+  cv::Mat region = mask;
+  if (options.scale > 1) {
+    // box means over scale x scale cells; a cell counts when all its pixels are in the mask
+    const int s = options.scale, w = image.cols / s, h = image.rows / s;
+    if (w == 0 || h == 0) return out;
+    const cv::Rect crop(0, 0, w * s, h * s);
+    cv::Mat coarse, cover, in01;
+    cv::resize(lum(crop), coarse, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    cv::Mat(mask(crop) != 0).convertTo(in01, CV_32F, 1.0 / 255.0);
+    cv::resize(in01, cover, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    lum = coarse;
+    region = cover > 1.0f - 0.5f / static_cast<float>(s * s);
+    if (cv::countNonZero(region) == 0) return out;
+  }
   const int k = 2 * options.radius + 1;
   cv::Mat inside;
-  cv::erode(mask, inside, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)), cv::Point(-1, -1),
+  cv::erode(region, inside, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)), cv::Point(-1, -1),
             1, cv::BORDER_CONSTANT, cv::Scalar(0));
   const int n = cv::countNonZero(inside);
   if (n == 0) return out;
-  const double regionMean = cv::mean(lum, mask)[0];
+  const double regionMean = cv::mean(lum, region)[0];
   const double floor = std::max(1e-8, options.darkFloor * regionMean);
   cv::Mat mu, mu2;
   cv::blur(lum, mu, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REPLICATE);
   cv::blur(lum.mul(lum), mu2, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REPLICATE);
   std::vector<double> c;
   c.reserve(n);
-  for (int y = 0; y < image.rows; ++y)
-    for (int x = 0; x < image.cols; ++x)
+  for (int y = 0; y < lum.rows; ++y)
+    for (int x = 0; x < lum.cols; ++x)
       if (inside.at<uint8_t>(y, x)) {
         const double m = mu.at<float>(y, x);
         const double var = std::max(0.0, static_cast<double>(mu2.at<float>(y, x)) - m * m);

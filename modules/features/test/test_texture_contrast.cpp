@@ -65,6 +65,43 @@ TEST(Features_Contrast, the_lights_level_and_smooth_shading_do_not_matter) {
   EXPECT_NEAR(typicalLocalContrast(shaded, mask).median, base, 0.05 * base);
 }
 
+TEST(Features_Contrast, at_a_coarser_scale_fine_grain_averages_away_and_blotches_stay) {
+  // sand-like grain (noise blurred by 0.7 px) and blotches (4 px) of one global spread: over 2 x 2
+  // cell means the grain loses local contrast and the blotches gain it (the window now spans
+  // them). What the selection's coarse test tells apart: a photo of fine grain and a render of
+  // coarse blotches, which may have the same contrast at full resolution.
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  const cv::Mat grain = noise(kSize, 0.7, 13), blotches = noise(kSize, 4.0, 13);
+  LocalContrastOptions coarse;
+  coarse.scale = 2;
+  const LocalContrast g1 = typicalLocalContrast(grain, mask), g2 =
+                                                                 typicalLocalContrast(grain, mask, coarse);
+  const LocalContrast b1 = typicalLocalContrast(blotches, mask),
+                      b2 = typicalLocalContrast(blotches, mask, coarse);
+  std::printf("grain %.4f -> %.4f, blotches %.4f -> %.4f (scale 1 -> 2)\n", g1.median, g2.median,
+              b1.median, b2.median);
+  EXPECT_LT(g2.median, g1.median);
+  EXPECT_GT(b2.median, b1.median);
+  EXPECT_GT(b2.median / b1.median, 1.5 * (g2.median / g1.median));
+  // the cells whose 5 x 5 window lies in the disk: about a quarter of the pixels' count, less
+  // the wider border band a window of cells leaves
+  std::printf("counted: %d pixels, %d cells\n", g1.pixels, g2.pixels);
+  EXPECT_GT(g2.pixels, g1.pixels / 5);
+  EXPECT_LT(g2.pixels, g1.pixels / 4);
+  // invariant to the light's level at any scale
+  EXPECT_NEAR(typicalLocalContrast(blotches * 5.0, mask, coarse).median, b2.median, 1e-4 * b2.median);
+  // a mask no cell lies wholly in (a one-pixel-wide line), an image smaller than a cell
+  cv::Mat line = cv::Mat::zeros(kSize, CV_8UC1);
+  line.col(80).setTo(255);
+  EXPECT_EQ(typicalLocalContrast(grain, line, coarse).pixels, 0);
+  const cv::Mat tiny = noise({1, 1}, 0.7, 1);
+  const LocalContrast t = typicalLocalContrast(tiny, cv::Mat(1, 1, CV_8UC1, cv::Scalar(255)), coarse);
+  EXPECT_EQ(t.pixels, 0);
+  EXPECT_EQ(t.median, 0.0);
+  coarse.scale = 0;
+  EXPECT_THROW(typicalLocalContrast(grain, mask, coarse), Exception);
+}
+
 TEST(Features_Contrast, finite_on_black_saturated_non_finite_and_tiny_regions) {
   const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
   const LocalContrast black = typicalLocalContrast(flat(0.0f), mask);

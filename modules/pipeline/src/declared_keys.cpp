@@ -119,6 +119,7 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.textureMargin)
           .add(s.maxPixelErrorRatio)
           .add(s.maxContrastRatio)
+          .add(s.coarseContrastScale)
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit);
     } else {

@@ -155,9 +155,13 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
                                            {"loss", f.loss},
                                            {"pixel_rmse", f.pixelRmse},
                                            {"contrast", f.contrast},
+                                           {"contrast_coarse", f.coarseContrast},
                                            {"qualifies", f.qualifies},
                                            {"seconds", f.seconds}});
-      if (!p.finalists.empty()) m.fitExtra["photo_contrast"] = p.photoContrast;
+      if (!p.finalists.empty()) {
+        m.fitExtra["photo_contrast"] = p.photoContrast;
+        m.fitExtra["photo_contrast_coarse"] = p.photoCoarseContrast;
+      }
       if (!p.textureRejected.empty()) m.fitExtra["texture_rejected"] = p.textureRejected;
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
       if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());

@@ -25,8 +25,9 @@ namespace {
 // roughness from highlights only, else the prior's centre (HomogeneousRoughness); 10 = a fitted
 // texture that fails selection's pixel-error or contrast test is rejected for the homogeneous
 // material (PartWork::textureRejected); 11 = a homogeneous albedo matches the photo's mean with
-// the render clipped where an integer-coded photo clips (PartView::clip).
-constexpr uint64_t kFitVersion = 11;
+// the render clipped where an integer-coded photo clips (PartView::clip); 12 = the texture tests
+// also at 2 x 2 cells (SynthesisOptions::coarseContrastScale).
+constexpr uint64_t kFitVersion = 12;
 
 class FitStage : public Stage {
  public:
@@ -80,8 +81,10 @@ class FitStage : public Stage {
       if (!e.ok()) {
         spdlog::info(
             "fit {}: {} rejected for the homogeneous material: pixel RMSE {:.4f} against its "
-            "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f}",
-            p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast);
+            "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f} ({:.3f} against "
+            "{:.3f} at 2 x 2 cells)",
+            p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast,
+            e.coarseContrast, e.photoCoarseContrast);
         p.textureRejected = p.graph;
         p.values.clear();
         p.mode = PartMode::Homogeneous;

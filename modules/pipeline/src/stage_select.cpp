@@ -1,8 +1,11 @@
 // Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), homogeneous
 // below the small-part threshold, else the kNN vote over the exemplar bank shortlists and the
 // shortlist's short fits on the part under incident0 decide (select/synthesis.hpp).
+#include <cstdlib>
+
 #include <spdlog/spdlog.h>
 
+#include "photoscene/io.hpp"
 #include "photoscene/select.hpp"
 #include "stages.hpp"
 
@@ -28,8 +31,10 @@ class SelectStage : public Stage {
     // finalist's roughness from highlights only (HomogeneousRoughness); 7: a textured winner's
     // pixel error at most maxPixelErrorRatio x the homogeneous finalist's; 8: a textured
     // winner's typical local contrast at most maxContrastRatio x the photo's, and the best
-    // textured finalist that passes both tests is the one weighed against homogeneous
-    decl.version = 8;
+    // textured finalist that passes both tests is the one weighed against homogeneous; 9: the
+    // faces of a part brought to one level before the vote (preparePartTexture), and the
+    // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale)
+    decl.version = 9;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -43,7 +48,7 @@ class SelectStage : public Stage {
     p.runnersUp.clear();
     p.candidates.clear();
     p.finalists.clear();
-    p.photoContrast = 0;
+    p.photoContrast = p.photoCoarseContrast = 0;
     p.startValues.clear();
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
@@ -71,6 +76,14 @@ class SelectStage : public Stage {
                                   cv::Mat(), so)
                   : selectForPart(*bank_, photo, view.photoMask.at(p.id), cv::Mat(), cv::Mat(), so);
       p.graph = c.graph;
+      if (const char* debug = std::getenv("PS_DEBUG_DIR"); debug && *debug && aligned) {
+        // what the vote saw: the part's texture as selectForPart prepares it
+        const PartTexture t = preparePartTexture(partPhoto(photo, view, p.id), fit,
+                                                 view.gbuffer.uv, cv::Mat(),
+                                                 bank_->options().shadingSigma, so);
+        fs::create_directories(debug);
+        io::writeImage(fs::path(debug) / ("select-" + p.name + ".png"), t.image);
+      }
       if ((synthesis.shortlist > 0 || synthesis.categories > 0) && aligned) {
         // the vote shortlists; short fits on the part itself decide (and texture or not)
         // the photo as the render sees it: divided by the view's exposure (as the fit stage)
@@ -85,9 +98,11 @@ class SelectStage : public Stage {
                                 synthesis, &bank_->options());
           if (!s.graph.empty()) p.graph = s.graph;
           p.photoContrast = s.photoContrast;
+          p.photoCoarseContrast = s.photoCoarseContrast;
           for (const SynthesisFinalist& f : s.finalists) {
             p.finalists.push_back(
-                {f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.qualifies});
+                {f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast,
+                 f.coarseContrast, f.qualifies});
             // the fit goes on from the winner's short fit instead of starting over
             if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
                 p.startValues.empty()) {
@@ -128,10 +143,12 @@ class SelectStage : public Stage {
     for (const PartWork::Finalist& f : p.finalists) {
       a.putString(f.graph);
       a.putString(f.category);
-      for (double x : {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast}) a.put(x);
+      for (double x : {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.coarseContrast})
+        a.put(x);
       a.put<uint8_t>(f.qualifies ? 1 : 0);
     }
     a.put(p.photoContrast);
+    a.put(p.photoCoarseContrast);
     a.putVector(p.startValues);
     for (float f : {p.startUv.rotation, p.startUv.logScale, p.startUv.offset.x(),
                     p.startUv.offset.y()})
@@ -160,9 +177,11 @@ class SelectStage : public Stage {
       f.seconds = a.get<double>();
       f.pixelRmse = a.get<double>();
       f.contrast = a.get<double>();
+      f.coarseContrast = a.get<double>();
       f.qualifies = a.get<uint8_t>() != 0;
     }
     p.photoContrast = a.get<double>();
+    p.photoCoarseContrast = a.get<double>();
     p.startValues = a.getVector<float>();
     p.startUv.rotation = a.get<float>();
     p.startUv.logScale = a.get<float>();

@@ -41,6 +41,7 @@ struct ReportFinalist {
   std::string graph;
   double loss = 0;
   double contrast = 0;    ///< typical local contrast of its render (NaN: not recorded)
+  double coarseContrast = 0;  ///< the same at 2 x 2 cells (NaN: not recorded)
   bool qualifies = true;  ///< passed the pixel-error and contrast tests
   bool chosen = false;
 };
@@ -55,6 +56,7 @@ struct ReportPart {
   std::vector<ReportCandidate> candidates;                   ///< best first, at most 5
   std::vector<ReportFinalist> finalists;  ///< lowest loss first (select's short fits)
   double photoContrast = 0;               ///< the photo's typical local contrast (NaN: none)
+  double photoCoarseContrast = 0;         ///< the same at 2 x 2 cells (NaN: none)
   std::string textureRejected;  ///< the graph whose full fit was rejected for homogeneous
   json metrics;  ///< metrics.json's parts.<name>, or null
 };

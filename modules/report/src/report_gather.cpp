@@ -406,12 +406,14 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
       rf.graph = g->get<std::string>();
       rf.loss = num(at(f, "loss"));
       rf.contrast = num(at(f, "contrast"));
+      rf.coarseContrast = num(at(f, "contrast_coarse"));
       if (const json* q = at(f, "qualifies"); q && q->is_boolean()) rf.qualifies = q->get<bool>();
       rf.chosen = graph && graph->is_string() && graph->get<std::string>() == rf.graph;
       p.finalists.push_back(std::move(rf));
     }
   }
   p.photoContrast = num(path(p.material, {"fit", "photo_contrast"}));
+  p.photoCoarseContrast = num(path(p.material, {"fit", "photo_contrast_coarse"}));
   if (const json* r = path(p.material, {"fit", "texture_rejected"}); r && r->is_string())
     p.textureRejected = r->get<std::string>();
   return p;

@@ -349,13 +349,20 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
         const ReportFinalist& f = p.finalists[i];
         h << (i ? "; " : "") << (f.chosen ? "<b>" : "") << html(f.graph) << (f.chosen ? "</b>" : "")
           << " loss " << fmtNum(f.loss, 3);
-        if (std::isfinite(f.contrast) && f.graph != "homogeneous")
+        if (std::isfinite(f.contrast) && f.graph != "homogeneous") {
           h << ", contrast " << fmtNum(f.contrast, 3);
+          if (std::isfinite(f.coarseContrast) && f.coarseContrast > 0)
+            h << " (" << fmtNum(f.coarseContrast, 3) << " at 2 x 2 cells)";
+        }
         if (!f.qualifies) h << " (more structure or pixel error than the photo allows)";
       }
       h << ".";
       if (std::isfinite(p.photoContrast) && p.photoContrast > 0)
-        h << " The photo's typical local contrast: " << fmtNum(p.photoContrast, 3) << ".";
+        h << " The photo's typical local contrast: " << fmtNum(p.photoContrast, 3)
+          << (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0
+                  ? " (" + fmtNum(p.photoCoarseContrast, 3) + " at 2 x 2 cells)"
+                  : std::string())
+          << ".";
       h << " A graph must beat the homogeneous loss by the margin and pass both tests.";
       if (!p.textureRejected.empty())
         h << " The full fit of <b>" << html(p.textureRejected)

@@ -23,6 +23,41 @@ cv::Mat maskOf(const PartGeometry& geometry, cv::Size size) {
   for (const cv::Point& q : geometry.pixels) m.at<uint8_t>(q) = 255;
   return m;
 }
+
+/// Typical local contrast at full resolution and at the coarse scale (none where the options
+/// make no contrast test, or no coarse one).
+struct Contrasts {
+  LocalContrast fine, coarse;
+};
+Contrasts contrastsOf(const cv::Mat& image, const cv::Mat& mask, const SynthesisOptions& options) {
+  Contrasts c;
+  if (options.maxContrastRatio <= 0) return c;
+  c.fine = typicalLocalContrast(image, mask);
+  if (options.coarseContrastScale > 1) {
+    LocalContrastOptions o;
+    o.scale = options.coarseContrastScale;
+    c.coarse = typicalLocalContrast(image, mask, o);
+  }
+  return c;
+}
+
+/// The evidence from a render's and the photo's contrasts and pixel errors, judged.
+TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
+                         const Contrasts& render, const Contrasts& photo,
+                         const SynthesisOptions& options) {
+  TextureEvidence e;
+  e.pixelRmse = pixelRmse;
+  e.flatPixelRmse = flatPixelRmse;
+  e.hasFlat = hasFlat;
+  e.contrast = render.fine.median;
+  e.photoContrast = photo.fine.median;
+  e.photoContrastPixels = photo.fine.pixels;
+  e.coarseContrast = render.coarse.median;
+  e.photoCoarseContrast = photo.coarse.median;
+  e.photoCoarsePixels = photo.coarse.pixels;
+  e.judge(options);
+  return e;
+}
 }  // namespace
 
 double maskedRmse(const cv::Mat& a, const cv::Mat& b, const std::vector<cv::Point>& pixels) {
@@ -62,23 +97,18 @@ void TextureEvidence::judge(const SynthesisOptions& options) {
   // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
   contrastOk = options.maxContrastRatio <= 0 || photoContrastPixels < kMinContrastPixels ||
                contrast <= options.maxContrastRatio * photoContrast;
+  // and structure the photo does not show at the coarser scale (too few cells: no such test)
+  if (options.maxContrastRatio > 0 && options.coarseContrastScale > 1 &&
+      photoCoarsePixels >= kMinContrastPixels)
+    contrastOk = contrastOk && coarseContrast <= options.maxContrastRatio * photoCoarseContrast;
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
                                 const PartGeometry& geometry, const SynthesisOptions& options) {
-  TextureEvidence e;
-  e.pixelRmse = maskedRmse(textured, photo, geometry.pixels);
-  e.hasFlat = !flat.empty();
-  e.flatPixelRmse = maskedRmse(flat, photo, geometry.pixels);
-  if (options.maxContrastRatio > 0) {
-    const cv::Mat mask = maskOf(geometry, photo.size());
-    const LocalContrast pc = typicalLocalContrast(photo, mask);
-    e.photoContrast = pc.median;
-    e.photoContrastPixels = pc.pixels;
-    e.contrast = typicalLocalContrast(textured, mask).median;
-  }
-  e.judge(options);
-  return e;
+  const cv::Mat mask = maskOf(geometry, photo.size());
+  return evidence(maskedRmse(textured, photo, geometry.pixels),
+                  maskedRmse(flat, photo, geometry.pixels), !flat.empty(),
+                  contrastsOf(textured, mask, options), contrastsOf(photo, mask, options), options);
 }
 
 bool SynthesisOptions::IsValid(std::string* error) const {
@@ -97,6 +127,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "maxPixelErrorRatio must be >= 0, got " << maxPixelErrorRatio;
   else if (!(maxContrastRatio >= 0))
     os << "maxContrastRatio must be >= 0, got " << maxContrastRatio;
+  else if (coarseContrastScale < 0)
+    os << "coarseContrastScale must be >= 0, got " << coarseContrastScale;
   if (error) *error = os.str();
   return os.str().empty();
 }
@@ -154,10 +186,9 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   }
   // the part's mask (the geometry's pixels) and the photo's typical local contrast over it
   const cv::Mat partMask = maskOf(geometry, photo.size());
-  const LocalContrast photoContrast = options.maxContrastRatio > 0
-                                          ? typicalLocalContrast(photo, partMask)
-                                          : LocalContrast{};
-  out.photoContrast = photoContrast.median;
+  const Contrasts photoContrast = contrastsOf(photo, partMask, options);
+  out.photoContrast = photoContrast.fine.median;
+  out.photoCoarseContrast = photoContrast.coarse.median;
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
     PartFitOptions o = fit;
@@ -172,7 +203,9 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
                                     : fitPart(graph, geometry, photo, target, o);
     f.loss = f.fit.loss;
     f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
-    if (options.maxContrastRatio > 0) f.contrast = typicalLocalContrast(f.fit.render, partMask).median;
+    const Contrasts c = contrastsOf(f.fit.render, partMask, options);
+    f.contrast = c.fine.median;
+    f.coarseContrast = c.coarse.median;
     f.seconds = t.seconds();
   });
   std::stable_sort(
@@ -185,14 +218,11 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
                    [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
   for (SynthesisFinalist& f : out.finalists) {
     if (f.graph == kHomogeneous || homogeneous == out.finalists.end()) continue;
-    TextureEvidence e;
-    e.pixelRmse = f.pixelRmse;
-    e.flatPixelRmse = homogeneous->pixelRmse;
-    e.contrast = f.contrast;
-    e.photoContrast = photoContrast.median;
-    e.photoContrastPixels = photoContrast.pixels;
-    e.judge(options);
-    f.qualifies = e.ok();
+    Contrasts render;
+    render.fine.median = f.contrast;
+    render.coarse.median = f.coarseContrast;
+    f.qualifies =
+        evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, photoContrast, options).ok();
   }
   const auto textured =
       std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {

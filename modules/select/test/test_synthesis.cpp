@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/optim.hpp"
 #include "photoscene/select/synthesis.hpp"
@@ -239,6 +240,63 @@ TEST(Select_Synthesis, texture_evidence_tests_pixel_error_and_contrast) {
   thin.imageSize = size;
   for (int x = 0; x < size.width; ++x) thin.pixels.emplace_back(x, 30);
   EXPECT_TRUE(textureEvidence(checker, flat, photo, thin, o).contrastOk);
+}
+
+TEST(Select_Synthesis, texture_evidence_at_coarser_cells_rejects_blotches_on_a_grainy_photo) {
+  // A photo of fine grain (sand, concrete: white noise); a render of soft blotches (noise blurred
+  // by 2 px) whose local contrast at full resolution is 1.2x the photo's, so the full-resolution
+  // test passes it. Over 2 x 2 cells the grain averages away and the blotches do not: the coarse
+  // test rejects them, and still passes the right grain rendered off-register.
+  const cv::Size size(128, 96);
+  Rng rng(9);
+  cv::Mat grain(size.height + 8, size.width + 8, CV_32F), blobs(size, CV_32F);
+  for (int y = 0; y < grain.rows; ++y)
+    for (int x = 0; x < grain.cols; ++x) grain.at<float>(y, x) = 0.4f + 0.05f * rng.normal();
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) blobs.at<float>(y, x) = static_cast<float>(rng.normal());
+  cv::GaussianBlur(blobs, blobs, cv::Size(0, 0), 2.0);
+  cv::Mat photo(size, CV_32FC3), shifted(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      photo.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y, x));
+      shifted.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y + 7, x + 5));
+    }
+  PartGeometry geo;
+  geo.imageSize = size;
+  for (int y = 4; y < size.height - 4; ++y)
+    for (int x = 4; x < size.width - 4; ++x) geo.pixels.emplace_back(x, y);
+  const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
+  auto blotches = [&](double amplitude) {
+    cv::Mat b(size, CV_32FC3);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x)
+        b.at<cv::Vec3f>(y, x) =
+            cv::Vec3f::all(static_cast<float>(0.4 * (1 + amplitude * blobs.at<float>(y, x))));
+    return b;
+  };
+  // the amplitude that puts the blotches' full-resolution contrast at 1.2x the photo's
+  const double photoContrast = typicalLocalContrast(photo, mask).median;
+  const double unit = typicalLocalContrast(blotches(1.0), mask).median;
+  const cv::Mat blotched = blotches(1.2 * photoContrast / unit);
+  const cv::Mat flat(size, CV_32FC3, cv::Scalar::all(0.4));
+  SynthesisOptions fineOnly;
+  fineOnly.coarseContrastScale = 0;
+  const SynthesisOptions o;
+  const TextureEvidence b = textureEvidence(blotched, flat, photo, geo, o);
+  const TextureEvidence g = textureEvidence(shifted, flat, photo, geo, o);
+  std::printf("blotches: contrast %.3f / photo %.3f, at 2 x 2 cells %.3f / %.3f; off-register "
+              "grain at 2 x 2 cells %.3f; RMSE ratio %.2f\n",
+              b.contrast, b.photoContrast, b.coarseContrast, b.photoCoarseContrast,
+              g.coarseContrast, b.pixelRmse / b.flatPixelRmse);
+  EXPECT_TRUE(textureEvidence(blotched, flat, photo, geo, fineOnly).contrastOk);
+  EXPECT_FALSE(b.contrastOk);
+  EXPECT_GT(b.coarseContrast, 1.5 * b.photoCoarseContrast);
+  EXPECT_TRUE(g.ok());
+  std::string why;
+  SynthesisOptions bad;
+  bad.coarseContrastScale = -1;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("coarseContrastScale"), std::string::npos);
 }
 
 }  // namespace

@@ -27,6 +27,10 @@ namespace ps {
 struct LocalContrastOptions {
   int radius = 2;           ///< window (2 radius + 1)^2 pixels
   float darkFloor = 0.05f;  ///< the window mean's floor, a fraction of the region's mean luminance
+  /// Structure `scale` times coarser: the luminance is first averaged over scale x scale cells
+  /// (a cell counts when all its pixels are in the mask), then the window runs over the cells.
+  /// Fine grain (sand, noise) averages away at scale 2; blotches, grout and grain lines stay.
+  int scale = 1;
 };
 
 struct LocalContrast {

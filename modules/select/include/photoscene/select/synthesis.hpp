@@ -59,6 +59,14 @@ struct SynthesisOptions {
   /// everywhere is not the photo's texture, whatever its loss; the bar sits below 2 by the
   /// noise a photo adds to its own contrast (none in the render layer's renders).
   double maxContrastRatio = 1.5;
+  /// ... at full resolution and again `coarseContrastScale` times coarser (LocalContrastOptions::
+  /// scale; 0 or 1: full resolution only), with the same bar. A photo's fine grain (sand,
+  /// concrete, a fabric's weave, the camera's noise) has local contrast at full resolution that
+  /// a graph's blotches, grout lines or wood figure can match there; over 2 x 2 cell means the
+  /// grain averages away and the blotches do not (on the real-texture yardstick a sandy concrete
+  /// ottoman went to wood_cathedral_oak: 1.02x the photo's contrast at full resolution, 1.9x at
+  /// scale 2; the true material re-rendered off-register 0.95x).
+  int coarseContrastScale = 2;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`). Off by default, with warmStartFit: on the
@@ -80,6 +88,7 @@ struct SynthesisFinalist {
   double loss = 0;     ///< fit loss after the short fit
   double pixelRmse = 0;  ///< masked RMSE of its render against the photo (linear)
   double contrast = 0;   ///< typical local contrast of its render over the part (median)
+  double coarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
   bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
@@ -89,6 +98,7 @@ struct SynthesisChoice {
   std::string graph, category;
   std::vector<SynthesisFinalist> finalists;  ///< sorted by loss, lowest first
   double photoContrast = 0;  ///< typical local contrast of the photo over the part (median)
+  double photoCoarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
   double seconds = 0;                        ///< all short fits (wall clock)
 };
 
@@ -110,6 +120,9 @@ struct TextureEvidence {
   bool hasFlat = true;                      ///< a flat render to compare the pixel error with
   double contrast = 0, photoContrast = 0;   ///< typical local contrast (median)
   int photoContrastPixels = 0;              ///< pixels the photo's median is over
+  /// the same at coarseContrastScale (cells; no coarse test below kMinContrastPixels cells)
+  double coarseContrast = 0, photoCoarseContrast = 0;
+  int photoCoarsePixels = 0;
   bool pixelsOk = true, contrastOk = true;
   bool ok() const { return pixelsOk && contrastOk; }
   /// Sets pixelsOk and contrastOk from the numbers above (the one place the tests are made:
