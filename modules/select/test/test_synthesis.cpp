@@ -200,26 +200,44 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
   EXPECT_NE(on.graph, off.graph);
 }
 
+/// A grainy photo (white noise of `spread` around 0.4), the same grain off-register (moved by
+/// (5, 7) pixels: the right texture, not pixel-aligned), its flat mean, and the part: all but a
+/// 4-pixel border.
+struct GrainyPart {
+  cv::Mat photo, shifted, flat;
+  PartGeometry geo;
+};
+GrainyPart grainyPart(cv::Size size, uint64_t seed, float spread) {
+  GrainyPart g;
+  Rng rng(seed);
+  cv::Mat grain(size.height + 8, size.width + 8, CV_32F);
+  for (int y = 0; y < grain.rows; ++y)
+    for (int x = 0; x < grain.cols; ++x) grain.at<float>(y, x) = 0.4f + spread * rng.normal();
+  g.photo.create(size, CV_32FC3);
+  g.shifted.create(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      g.photo.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y, x));
+      g.shifted.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y + 7, x + 5));
+    }
+  g.flat = cv::Mat(size, CV_32FC3, cv::Scalar::all(0.4));
+  g.geo.imageSize = size;
+  for (int y = 4; y < size.height - 4; ++y)
+    for (int x = 4; x < size.width - 4; ++x) g.geo.pixels.emplace_back(x, y);
+  return g;
+}
+
 TEST(Select_Synthesis, texture_evidence_tests_pixel_error_and_contrast) {
   // a grainy photo; the flat render is its mean; an unaligned copy of the grain (the right
   // texture, not pixel-aligned) passes both tests; a coarse high-contrast checker fails both
   const cv::Size size(96, 72);
-  Rng rng(4);
-  cv::Mat photo(size, CV_32FC3), shifted(size, CV_32FC3), checker(size, CV_32FC3);
-  cv::Mat grain(size.height + 8, size.width + 8, CV_32F);
-  for (int y = 0; y < grain.rows; ++y)
-    for (int x = 0; x < grain.cols; ++x) grain.at<float>(y, x) = 0.4f + 0.06f * rng.normal();
+  const GrainyPart part = grainyPart(size, 4, 0.06f);
+  const cv::Mat &photo = part.photo, &shifted = part.shifted, &flat = part.flat;
+  const PartGeometry& geo = part.geo;
+  cv::Mat checker(size, CV_32FC3);
   for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width; ++x) {
-      photo.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y, x));
-      shifted.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y + 7, x + 5));
+    for (int x = 0; x < size.width; ++x)
       checker.at<cv::Vec3f>(y, x) = cv::Vec3f::all(((x / 6 + y / 6) & 1) ? 0.7f : 0.1f);
-    }
-  const cv::Mat flat(size, CV_32FC3, cv::Scalar::all(0.4));
-  PartGeometry geo;
-  geo.imageSize = size;
-  for (int y = 4; y < size.height - 4; ++y)
-    for (int x = 4; x < size.width - 4; ++x) geo.pixels.emplace_back(x, y);
   const SynthesisOptions o;
   const TextureEvidence right = textureEvidence(shifted, flat, photo, geo, o);
   const TextureEvidence wrong = textureEvidence(checker, flat, photo, geo, o);
@@ -248,50 +266,35 @@ TEST(Select_Synthesis, texture_evidence_at_coarser_cells_rejects_blotches_on_a_g
   // test passes it. Over 2 x 2 cells the grain averages away and the blotches do not: the coarse
   // test rejects them, and still passes the right grain rendered off-register.
   const cv::Size size(128, 96);
-  Rng rng(9);
-  cv::Mat grain(size.height + 8, size.width + 8, CV_32F), blobs(size, CV_32F);
-  for (int y = 0; y < grain.rows; ++y)
-    for (int x = 0; x < grain.cols; ++x) grain.at<float>(y, x) = 0.4f + 0.05f * rng.normal();
+  const GrainyPart part = grainyPart(size, 9, 0.05f);
+  const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
+  Rng rng(10);
+  cv::Mat blobs(size, CV_32F);
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x) blobs.at<float>(y, x) = static_cast<float>(rng.normal());
   cv::GaussianBlur(blobs, blobs, cv::Size(0, 0), 2.0);
-  cv::Mat photo(size, CV_32FC3), shifted(size, CV_32FC3);
-  for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width; ++x) {
-      photo.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y, x));
-      shifted.at<cv::Vec3f>(y, x) = cv::Vec3f::all(grain.at<float>(y + 7, x + 5));
-    }
-  PartGeometry geo;
-  geo.imageSize = size;
-  for (int y = 4; y < size.height - 4; ++y)
-    for (int x = 4; x < size.width - 4; ++x) geo.pixels.emplace_back(x, y);
-  const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
-  auto blotches = [&](double amplitude) {
-    cv::Mat b(size, CV_32FC3);
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width; ++x)
-        b.at<cv::Vec3f>(y, x) =
-            cv::Vec3f::all(static_cast<float>(0.4 * (1 + amplitude * blobs.at<float>(y, x))));
-    return b;
-  };
-  // the amplitude that puts the blotches' full-resolution contrast at 1.2x the photo's
-  const double photoContrast = typicalLocalContrast(photo, mask).median;
-  const double unit = typicalLocalContrast(blotches(1.0), mask).median;
-  const cv::Mat blotched = blotches(1.2 * photoContrast / unit);
-  const cv::Mat flat(size, CV_32FC3, cv::Scalar::all(0.4));
+  // 0.4 (1 + amplitude x blobs), the amplitude putting the full-resolution contrast at 1.2x the
+  // photo's
+  cv::Mat unit;
+  cv::merge(std::vector<cv::Mat>(3, 0.4f * (1.0f + blobs)), unit);
+  const double amplitude = 1.2 * typicalLocalContrast(part.photo, mask).median /
+                           typicalLocalContrast(unit, mask).median;
+  cv::Mat blotched;
+  cv::merge(std::vector<cv::Mat>(3, 0.4f * (1.0f + static_cast<float>(amplitude) * blobs)),
+            blotched);
   SynthesisOptions fineOnly;
   fineOnly.coarseContrastScale = 0;
-  const SynthesisOptions o;
-  const TextureEvidence b = textureEvidence(blotched, flat, photo, geo, o);
-  const TextureEvidence g = textureEvidence(shifted, flat, photo, geo, o);
-  std::printf("blotches: contrast %.3f / photo %.3f, at 2 x 2 cells %.3f / %.3f; off-register "
-              "grain at 2 x 2 cells %.3f; RMSE ratio %.2f\n",
-              b.contrast, b.photoContrast, b.coarseContrast, b.photoCoarseContrast,
-              g.coarseContrast, b.pixelRmse / b.flatPixelRmse);
-  EXPECT_TRUE(textureEvidence(blotched, flat, photo, geo, fineOnly).contrastOk);
+  EXPECT_TRUE(textureEvidence(blotched, part.flat, part.photo, part.geo, fineOnly).contrastOk);
+  const TextureEvidence b = textureEvidence(blotched, part.flat, part.photo, part.geo, {});
+  const double offRegister =
+      textureEvidence(part.shifted, part.flat, part.photo, part.geo, {}).coarseContrast;
+  std::printf("blotches: contrast %.3f against the photo's %.3f, at 2 x 2 cells %.3f against "
+              "%.3f; the grain off-register at 2 x 2 cells %.3f\n",
+              b.contrast, b.photoContrast, b.coarseContrast, b.photoCoarseContrast, offRegister);
   EXPECT_FALSE(b.contrastOk);
   EXPECT_GT(b.coarseContrast, 1.5 * b.photoCoarseContrast);
-  EXPECT_TRUE(g.ok());
+  EXPECT_TRUE(textureEvidence(part.shifted, part.flat, part.photo, part.geo, {}).ok());
+  EXPECT_LT(offRegister, 1.2 * b.photoCoarseContrast);
   std::string why;
   SynthesisOptions bad;
   bad.coarseContrastScale = -1;
