@@ -88,10 +88,15 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
         {{"graph", graphs[i]}, {"category", "c"}, {"score", 0.5 - 0.05 * i}, {"votes", 2}});
   // and the synthesis's finalists with their verdicts (what select and fit write)
   m["fit"]["finalists"] = nlohmann::json::array(
-      {{{"graph", "tile_hexagon"}, {"loss", 0.12}, {"contrast", 0.31}, {"qualifies", false}},
+      {{{"graph", "tile_hexagon"},
+        {"loss", 0.12},
+        {"contrast", 0.31},
+        {"contrast_coarse", 0.4},
+        {"qualifies", false}},
        {{"graph", "plaster_stucco"}, {"loss", 0.15}, {"contrast", 0.05}, {"qualifies", true}},
        {{"graph", "homogeneous"}, {"loss", 0.19}, {"contrast", 0.01}, {"qualifies", true}}});
   m["fit"]["photo_contrast"] = 0.06;
+  m["fit"]["photo_contrast_coarse"] = 0.045;
   io::writeJsonFile(mf, m);
   ReportOptions o;
   o.viewerDir = fakeViewer(dir);
@@ -111,10 +116,11 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b>"));  // the chosen one is marked
   EXPECT_TRUE(contains(cells, "\"sofa_fabric\": { \"graph\": \"tile_hexagon\" }"));
   // why the lowest loss did not win: it failed the contrast test
-  EXPECT_TRUE(contains(cells, "tile_hexagon loss 0.12, contrast 0.31 (more structure or pixel "
-                              "error than the photo allows)"));
-  EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15"));
-  EXPECT_TRUE(contains(cells, "typical local contrast: 0.06"));
+  EXPECT_TRUE(contains(cells, "tile_hexagon loss 0.12, contrast 0.31 (0.4 at 2 x 2 cells) (more "
+                              "structure or pixel error than the photo allows)"));
+  // a finalist without the coarse value (a materials file written before it) shows the rest
+  EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15, contrast 0.05;"));
+  EXPECT_TRUE(contains(cells, "typical local contrast: 0.06 (0.045 at 2 x 2 cells)."));
   const cv::Mat preview = io::readImage(out / "previews/tile_hexagon.png");
   EXPECT_EQ(preview.cols, o.candidatePreviewSize);
   // parts without candidates (the other GT materials) get no row
