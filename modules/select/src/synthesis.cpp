@@ -43,7 +43,7 @@ Contrasts contrastsOf(const cv::Mat& image, const cv::Mat& mask, const Synthesis
 
 /// The evidence from a render's and the photo's contrasts and pixel errors, judged.
 TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
-                         const Contrasts& render, const Contrasts& photo,
+                         const Contrasts& render, const Contrasts& flat, const Contrasts& photo,
                          const SynthesisOptions& options) {
   TextureEvidence e;
   e.pixelRmse = pixelRmse;
@@ -55,6 +55,7 @@ TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
   e.coarseContrast = render.coarse.median;
   e.photoCoarseContrast = photo.coarse.median;
   e.photoCoarsePixels = photo.coarse.pixels;
+  e.flatCoarseContrast = hasFlat ? flat.coarse.median : 0.0;
   e.judge(options);
   return e;
 }
@@ -97,10 +98,14 @@ void TextureEvidence::judge(const SynthesisOptions& options) {
   // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
   contrastOk = options.maxContrastRatio <= 0 || photoContrastPixels < kMinContrastPixels ||
                contrast <= options.maxContrastRatio * photoContrast;
-  // and structure the photo does not show at the coarser scale (too few cells: no such test)
+  // and structure the photo does not show at the coarser scale, the flat render's own (the
+  // grid's noise) taken off in quadrature (too few cells: no such test)
   if (options.maxContrastRatio > 0 && options.coarseContrastScale > 1 &&
-      photoCoarsePixels >= kMinContrastPixels)
-    contrastOk = contrastOk && coarseContrast <= options.maxContrastRatio * photoCoarseContrast;
+      photoCoarsePixels >= kMinContrastPixels) {
+    const double texture = std::sqrt(std::max(
+        0.0, coarseContrast * coarseContrast - flatCoarseContrast * flatCoarseContrast));
+    contrastOk = contrastOk && texture <= options.maxContrastRatio * photoCoarseContrast;
+  }
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
@@ -108,7 +113,9 @@ TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, co
   const cv::Mat mask = maskOf(geometry, photo.size());
   return evidence(maskedRmse(textured, photo, geometry.pixels),
                   maskedRmse(flat, photo, geometry.pixels), !flat.empty(),
-                  contrastsOf(textured, mask, options), contrastsOf(photo, mask, options), options);
+                  contrastsOf(textured, mask, options),
+                  flat.empty() ? Contrasts{} : contrastsOf(flat, mask, options),
+                  contrastsOf(photo, mask, options), options);
 }
 
 bool SynthesisOptions::IsValid(std::string* error) const {
@@ -218,11 +225,14 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
                    [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
   for (SynthesisFinalist& f : out.finalists) {
     if (f.graph == kHomogeneous || homogeneous == out.finalists.end()) continue;
-    Contrasts render;
+    Contrasts render, flat;
     render.fine.median = f.contrast;
     render.coarse.median = f.coarseContrast;
-    f.qualifies =
-        evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, photoContrast, options).ok();
+    flat.fine.median = homogeneous->contrast;
+    flat.coarse.median = homogeneous->coarseContrast;
+    f.qualifies = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat, photoContrast,
+                           options)
+                      .ok();
   }
   const auto textured =
       std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {

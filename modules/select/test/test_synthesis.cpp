@@ -293,6 +293,11 @@ TEST(Select_Synthesis, texture_evidence_at_coarser_cells_rejects_blotches_on_a_g
               b.contrast, b.photoContrast, b.coarseContrast, b.photoCoarseContrast, offRegister);
   EXPECT_FALSE(b.contrastOk);
   EXPECT_GT(b.coarseContrast, 1.5 * b.photoCoarseContrast);
+  // structure the flat render has too (the render layer's incident-light grid noise) is not
+  // the texture's: against a flat render with the same blotches the texture adds nothing
+  const TextureEvidence same = textureEvidence(blotched, blotched, part.photo, part.geo, {});
+  EXPECT_NEAR(same.flatCoarseContrast, same.coarseContrast, 1e-12);
+  EXPECT_TRUE(same.contrastOk);
   EXPECT_TRUE(textureEvidence(part.shifted, part.flat, part.photo, part.geo, {}).ok());
   EXPECT_LT(offRegister, 1.2 * b.photoCoarseContrast);
   std::string why;

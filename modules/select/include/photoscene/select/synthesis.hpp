@@ -65,7 +65,11 @@ struct SynthesisOptions {
   /// a graph's blotches, grout lines or wood figure can match there; over 2 x 2 cell means the
   /// grain averages away and the blotches do not (on the real-texture yardstick a sandy concrete
   /// ottoman went to wood_cathedral_oak: 1.02x the photo's contrast at full resolution, 1.9x at
-  /// scale 2; the true material re-rendered off-register 0.95x).
+  /// scale 2 in the final renders; the true material re-rendered off-register 0.95x). At that
+  /// scale the render layer's own structure (the incident-light grid's noise, blotches of a few
+  /// pixels) is often above the photo's, so what is compared is the texture's share: the
+  /// render's contrast with the homogeneous render's taken off in quadrature,
+  /// sqrt(max(0, c^2 - c_flat^2)).
   int coarseContrastScale = 2;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
@@ -120,8 +124,9 @@ struct TextureEvidence {
   bool hasFlat = true;                      ///< a flat render to compare the pixel error with
   double contrast = 0, photoContrast = 0;   ///< typical local contrast (median)
   int photoContrastPixels = 0;              ///< pixels the photo's median is over
-  /// the same at coarseContrastScale (cells; no coarse test below kMinContrastPixels cells)
-  double coarseContrast = 0, photoCoarseContrast = 0;
+  /// the same at coarseContrastScale (cells; no coarse test below kMinContrastPixels cells), and
+  /// the flat render's there (taken off the render's in quadrature; 0 without a flat render)
+  double coarseContrast = 0, photoCoarseContrast = 0, flatCoarseContrast = 0;
   int photoCoarsePixels = 0;
   bool pixelsOk = true, contrastOk = true;
   bool ok() const { return pixelsOk && contrastOk; }
