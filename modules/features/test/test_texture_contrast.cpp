@@ -74,8 +74,8 @@ TEST(Features_Contrast, at_a_coarser_scale_fine_grain_averages_away_and_blotches
   const cv::Mat grain = noise(kSize, 0.7, 13), blotches = noise(kSize, 4.0, 13);
   LocalContrastOptions coarse;
   coarse.scale = 2;
-  const LocalContrast g1 = typicalLocalContrast(grain, mask), g2 =
-                                                                 typicalLocalContrast(grain, mask, coarse);
+  const LocalContrast g1 = typicalLocalContrast(grain, mask),
+                      g2 = typicalLocalContrast(grain, mask, coarse);
   const LocalContrast b1 = typicalLocalContrast(blotches, mask),
                       b2 = typicalLocalContrast(blotches, mask, coarse);
   std::printf("grain %.4f -> %.4f, blotches %.4f -> %.4f (scale 1 -> 2)\n", g1.median, g2.median,

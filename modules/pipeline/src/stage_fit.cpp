@@ -82,9 +82,10 @@ class FitStage : public Stage {
         spdlog::info(
             "fit {}: {} rejected for the homogeneous material: pixel RMSE {:.4f} against its "
             "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f} ({:.3f} against "
-            "{:.3f} at 2 x 2 cells)",
+            "{:.3f} over {} x {} cells)",
             p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast,
-            e.coarseContrast, e.photoCoarseContrast);
+            e.coarseContrast, e.photoCoarseContrast, selection.coarseContrastScale,
+            selection.coarseContrastScale);
         p.textureRejected = p.graph;
         p.values.clear();
         p.mode = PartMode::Homogeneous;

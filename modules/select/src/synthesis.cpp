@@ -55,7 +55,7 @@ TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
   e.coarseContrast = render.coarse.median;
   e.photoCoarseContrast = photo.coarse.median;
   e.photoCoarsePixels = photo.coarse.pixels;
-  e.flatCoarseContrast = hasFlat ? flat.coarse.median : 0.0;
+  e.flatCoarseContrast = flat.coarse.median;  // 0 without a flat render (Contrasts{})
   e.judge(options);
   return e;
 }
