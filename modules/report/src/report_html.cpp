@@ -364,6 +364,9 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
                   : std::string())
           << ".";
       h << " A graph must beat the homogeneous loss by the margin and pass both tests.";
+      if (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0)
+        h << " At 2 x 2 cells a graph is judged by the contrast it adds to the homogeneous"
+             " render's (the incident-light grid's noise is in both).";
       if (!p.textureRejected.empty())
         h << " The full fit of <b>" << html(p.textureRejected)
           << "</b> failed them: the part is homogeneous.";

@@ -121,6 +121,7 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   // a finalist without the coarse value (a materials file written before it) shows the rest
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15, contrast 0.05;"));
   EXPECT_TRUE(contains(cells, "typical local contrast: 0.06 (0.045 at 2 x 2 cells)."));
+  EXPECT_TRUE(contains(cells, "the contrast it adds to the homogeneous render's"));
   const cv::Mat preview = io::readImage(out / "previews/tile_hexagon.png");
   EXPECT_EQ(preview.cols, o.candidatePreviewSize);
   // parts without candidates (the other GT materials) get no row
