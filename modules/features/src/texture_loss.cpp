@@ -224,25 +224,33 @@ TextureLossGradientCheck checkTextureLossGradient(const TextureLossTarget& targe
   textureLossForward(p);
   cv::Mat grad;
   textureLossBackward(p, 1.0f, grad);
-  std::vector<double> analytic, numeric, numeric2;
   TextureLossParams q;
   q.target = &target;
-  cv::Mat work = render.clone();
+  return checkImageGradient(render, grad, pixels, step, [&](const cv::Mat& image) {
+    q.render = image;
+    return textureLossForward(q);
+  });
+}
+
+TextureLossGradientCheck checkImageGradient(const cv::Mat& image, const cv::Mat& grad,
+                                            const std::vector<cv::Point>& pixels, double step,
+                                            const std::function<double(const cv::Mat&)>& loss) {
+  cv::Mat work = image.clone();
   // Central difference on one entry with step s (the step actually taken in float).
   auto central = [&](float& v, double s) {
     const float orig = v;
     v = static_cast<float>(orig + s);
-    q.render = work;
-    const double up = textureLossForward(q);
+    const double up = loss(work);
     v = static_cast<float>(orig - s);
-    const double down = textureLossForward(q);
+    const double down = loss(work);
     const double h = static_cast<double>(static_cast<float>(orig + s)) -
                      static_cast<double>(static_cast<float>(orig - s));
     v = orig;
     return (up - down) / h;
   };
+  std::vector<double> analytic, numeric, numeric2;
   for (const cv::Point& px : pixels) {
-    PS_Check(px.inside(cv::Rect(0, 0, render.cols, render.rows)), "pixel outside the image");
+    PS_Check(px.inside(cv::Rect(0, 0, image.cols, image.rows)), "pixel outside the image");
     for (int ch = 0; ch < 3; ++ch) {
       float& v = work.at<cv::Vec3f>(px)[ch];
       numeric.push_back(central(v, step));

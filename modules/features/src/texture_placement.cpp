@@ -135,29 +135,8 @@ TextureLossGradientCheck checkPlacementLossGradient(const PlacementLossTarget& t
                                                     double step) {
   cv::Mat grad;
   placementLoss(target, render, &grad);
-  cv::Mat work = render.clone();
-  auto central = [&](float& v, double s) {
-    const float orig = v;
-    v = static_cast<float>(orig + s);
-    const double up = placementLoss(target, work);
-    v = static_cast<float>(orig - s);
-    const double down = placementLoss(target, work);
-    const double h = static_cast<double>(static_cast<float>(orig + s)) -
-                     static_cast<double>(static_cast<float>(orig - s));
-    v = orig;
-    return (up - down) / h;
-  };
-  std::vector<double> analytic, numeric, numeric2;
-  for (const cv::Point& px : pixels) {
-    PS_Check(px.inside(cv::Rect(0, 0, render.cols, render.rows)), "pixel outside the image");
-    for (int ch = 0; ch < 3; ++ch) {
-      float& v = work.at<cv::Vec3f>(px)[ch];
-      numeric.push_back(central(v, step));
-      numeric2.push_back(central(v, 2 * step));
-      analytic.push_back(grad.at<cv::Vec3f>(px)[ch]);
-    }
-  }
-  return summarizeGradientCheck(analytic, numeric, numeric2);
+  return checkImageGradient(render, grad, pixels, step,
+                            [&](const cv::Mat& image) { return placementLoss(target, image); });
 }
 
 }  // namespace ps

@@ -92,14 +92,8 @@ void AreaLight::preprocess(const LightScene& scene) {
                        scene.partEmitter[partId] == scene.self;
     for (size_t t = 0; owner && t < mesh.numTriangles(); ++t) {
       if (mesh.partIds[t] != partId) continue;
-      const auto& f = mesh.triangles[t];
       EmitterTriangle tri;
-      tri.p0 = mesh.positions[f[0]];
-      tri.e1 = mesh.positions[f[1]] - tri.p0;
-      tri.e2 = mesh.positions[f[2]] - tri.p0;
-      tri.area = mesh.area(static_cast<int>(t));
-      tri.n = mesh.faceNormal(static_cast<int>(t));
-      if (!(tri.area > 0) || tri.n.isZero()) continue;
+      if (!meshTriangle(mesh, static_cast<int>(t), &tri)) continue;
       // emits from the side its face normals point to: winding, or the OBJ normals when they
       // disagree
       const Vec3f nsum =
@@ -196,6 +190,16 @@ float AreaLight::pdfLi(const LightSampleContext& ctx, const LightHit& hit) const
 }
 
 // ---------------------------------------------------------------------------------------------
+
+bool meshTriangle(const Mesh& mesh, int t, EmitterTriangle* tri) {
+  const auto& f = mesh.triangles[t];
+  tri->p0 = mesh.positions[f[0]];
+  tri->e1 = mesh.positions[f[1]] - tri->p0;
+  tri->e2 = mesh.positions[f[2]] - tri->p0;
+  tri->area = mesh.area(t);
+  tri->n = mesh.faceNormal(t);
+  return tri->area > 0 && !tri->n.isZero();
+}
 
 EmitterRectangle rectangleOf(const std::vector<const EmitterTriangle*>& tris) {
   EmitterRectangle r;

@@ -124,14 +124,8 @@ void EnvironmentLight::preprocess(const LightScene& scene) {
   for (size_t t = 0; t < nt; ++t) {
     const int part = mesh.partIds[t];
     if (part < 0 || part >= static_cast<int>(isWindow.size()) || !isWindow[part]) continue;
-    const auto& f = mesh.triangles[t];
     EmitterTriangle tri;
-    tri.p0 = mesh.positions[f[0]];
-    tri.e1 = mesh.positions[f[1]] - tri.p0;
-    tri.e2 = mesh.positions[f[2]] - tri.p0;
-    tri.area = mesh.area(static_cast<int>(t));
-    tri.n = mesh.faceNormal(static_cast<int>(t));
-    if (!(tri.area > 0) || tri.n.isZero()) continue;
+    if (!meshTriangle(mesh, static_cast<int>(t), &tri)) continue;
     meshTriWindow_[t] = static_cast<int>(windowTris_.size());
     windowTris_.push_back(tri);
   }
@@ -281,6 +275,14 @@ float EnvironmentLight::pdfLi(const LightSampleContext& ctx, const LightHit& hit
   return pdf(ctx.p, hit.dir, hit.escape, ctx.selectionPdf);
 }
 
+bool EnvironmentLight::sampleImage(const Vec2f& u, Vec3f* wi) const {
+  float uvPdf = 0;
+  const Vec2f uv = envDist_.sample(u.x(), u.y(), &uvPdf);
+  if (uvPdf <= 0) return false;
+  *wi = uvToDirection(uv);
+  return true;
+}
+
 bool EnvironmentLight::sampleLi(const LightSampleContext& ctx, float uRe, const Vec2f& uPt,
                                 LightLiSample* ls) const {
   const Vec3f& x = ctx.p;
@@ -306,11 +308,8 @@ bool EnvironmentLight::sampleLi(const LightSampleContext& ctx, float uRe, const 
       const float len = d.norm();
       if (!(len > 1e-6f)) return false;
       ls->wi = d / len;
-    } else {
-      float uvPdf = 0;
-      const Vec2f uv = envDist_.sample(uPt.x(), uPt.y(), &uvPdf);
-      if (uvPdf <= 0) return false;
-      ls->wi = uvToDirection(uv);
+    } else if (!sampleImage(uPt, &ls->wi)) {
+      return false;
     }
     if (ls->wi.dot(ctx.n) <= 0) return false;
     LightEscape esc;
@@ -322,11 +321,8 @@ bool EnvironmentLight::sampleLi(const LightSampleContext& ctx, float uRe, const 
       const float z = 1 - 2 * uPt.x(), r = std::sqrt(std::max(0.0f, 1 - z * z)),
                   phi = 2 * kPi * uPt.y();
       ls->wi = Vec3f(r * std::cos(phi), r * std::sin(phi), z);
-    } else {
-      float uvPdf = 0;
-      const Vec2f uv = envDist_.sample(uPt.x(), uPt.y(), &uvPdf);
-      if (uvPdf <= 0) return false;
-      ls->wi = uvToDirection(uv);
+    } else if (!sampleImage(uPt, &ls->wi)) {
+      return false;
     }
     if (ls->wi.dot(ctx.n) <= 0) return false;
     ls->pdf = ctx.selectionPdf * imagePdf(ls->wi);

@@ -15,6 +15,10 @@ inline Vec3f pointOnTriangle(const EmitterTriangle& tri, float a, float b) {
   return Vec3f(tri.p0 + tri.e1 * (su * (1 - b)) + tri.e2 * (su * b));
 }
 
+/// Mesh triangle `t` as an EmitterTriangle (n its unit face normal by winding); false for a
+/// degenerate triangle (zero area or normal), which no light samples.
+bool meshTriangle(const Mesh& mesh, int t, EmitterTriangle* tri);
+
 /// The rectangle that `tris` tile exactly (two triangles on either side of one of its
 /// diagonals, perpendicular edges, the same facing), or an invalid one.
 EmitterRectangle rectangleOf(const std::vector<const EmitterTriangle*>& tris);

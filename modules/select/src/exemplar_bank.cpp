@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core/error.hpp"
+#include "photoscene/core/image.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/rng.hpp"
@@ -37,19 +38,6 @@ uint64_t nameHash(const std::string& s) {
 /// The seed of draw `draw` of graph `name` (its values, its renderings' rotations and noise).
 uint64_t drawSeed(const ExemplarBankOptions& options, const std::string& name, int draw) {
   return mix64(options.seed ^ nameHash(name)) + static_cast<uint64_t>(draw);
-}
-
-/// Bilinear, periodic sample of a CV_32FC3 map at texture coordinate t (row 0 = top).
-cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
-  const int n = map.cols, m = map.rows;
-  const float x = tu * n - 0.5f, y = (1.0f - tv) * m - 0.5f;
-  const float fx0 = std::floor(x), fy0 = std::floor(y);
-  const float fx = x - fx0, fy = y - fy0;
-  auto wrap = [](int i, int size) { return ((i % size) + size) % size; };
-  const int x0 = wrap(static_cast<int>(fx0), n), x1 = wrap(static_cast<int>(fx0) + 1, n);
-  const int y0 = wrap(static_cast<int>(fy0), m), y1 = wrap(static_cast<int>(fy0) + 1, m);
-  return (1 - fy) * ((1 - fx) * map.at<cv::Vec3f>(y0, x0) + fx * map.at<cv::Vec3f>(y0, x1)) +
-         fy * ((1 - fx) * map.at<cv::Vec3f>(y1, x0) + fx * map.at<cv::Vec3f>(y1, x1));
 }
 
 /// Box-prefiltered copy of a periodic map so that it has about `texels` texels across.

@@ -9,6 +9,7 @@
 
 #include "photoscene/align/align.hpp"
 #include "photoscene/core/error.hpp"
+#include "photoscene/core/image.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/rng.hpp"
 #include "photoscene/core/color.hpp"
@@ -251,19 +252,6 @@ GraphChoice selectForPart(const ExemplarBank& bank, const cv::Mat& photo, const 
 // ---------------------------------------------------------------- observation model
 
 namespace {
-
-/// Periodic bilinear sample of a CV_32FC3 map at texture coordinate t (row 0 = top).
-cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
-  const int n = map.cols, m = map.rows;
-  const float x = tu * n - 0.5f, y = (1.0f - tv) * m - 0.5f;
-  const float fx0 = std::floor(x), fy0 = std::floor(y);
-  const float fx = x - fx0, fy = y - fy0;
-  auto wrap = [](int i, int size) { return ((i % size) + size) % size; };
-  const int x0 = wrap(static_cast<int>(fx0), n), x1 = wrap(static_cast<int>(fx0) + 1, n);
-  const int y0 = wrap(static_cast<int>(fy0), m), y1 = wrap(static_cast<int>(fy0) + 1, m);
-  return (1 - fy) * ((1 - fx) * map.at<cv::Vec3f>(y0, x0) + fx * map.at<cv::Vec3f>(y0, x1)) +
-         fy * ((1 - fx) * map.at<cv::Vec3f>(y1, x0) + fx * map.at<cv::Vec3f>(y1, x1));
-}
 
 std::vector<cv::Mat> mipChain(const cv::Mat& map) {
   std::vector<cv::Mat> chain{map};

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <cmath>
 #include <string>
 
 namespace ps {
@@ -38,5 +39,20 @@ void checkImage(const cv::Mat& m, int type, cv::Size size, const char* what);
 
 /// True when every value of a float image is finite.
 bool allFinite(const cv::Mat& m);
+
+/// Bilinear, periodic (tiling) sample of a CV_32FC3 map at texture coordinate (tu, tv): u = 0 at
+/// the left edge, v = 0 at the bottom (row 0 = top), one period per unit. Not checked: `map` must
+/// be a non-empty CV_32FC3 (a hot inner-loop lookup, hence inline).
+inline cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
+  const int n = map.cols, m = map.rows;
+  const float x = tu * n - 0.5f, y = (1.0f - tv) * m - 0.5f;
+  const float fx0 = std::floor(x), fy0 = std::floor(y);
+  const float fx = x - fx0, fy = y - fy0;
+  auto wrap = [](int i, int size) { return ((i % size) + size) % size; };
+  const int x0 = wrap(static_cast<int>(fx0), n), x1 = wrap(static_cast<int>(fx0) + 1, n);
+  const int y0 = wrap(static_cast<int>(fy0), m), y1 = wrap(static_cast<int>(fy0) + 1, m);
+  return (1 - fy) * ((1 - fx) * map.at<cv::Vec3f>(y0, x0) + fx * map.at<cv::Vec3f>(y0, x1)) +
+         fy * ((1 - fx) * map.at<cv::Vec3f>(y1, x0) + fx * map.at<cv::Vec3f>(y1, x1));
+}
 
 }  // namespace ps

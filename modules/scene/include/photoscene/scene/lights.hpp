@@ -138,6 +138,7 @@ class EnvironmentLight final : public Light {
 
  private:
   Vec3f unitRadianceFrom(const Vec3f& dir) const;  // the lookup at radiance 1
+  bool sampleImage(const Vec2f& u, Vec3f* wi) const;  // a direction by the image's importance
   float windowMix() const { return image.empty() ? 1.0f : 0.5f; }
   float imagePdf(const Vec3f& dir) const;
   float windowPdf(const Vec3f& x, const Vec3f& dir, const LightEscape& esc) const;
