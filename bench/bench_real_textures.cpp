@@ -283,6 +283,7 @@ struct Options {
   int threads = 2, width = 320, height = 240, spp = 32, textureSize = 64;
   std::vector<std::string> lightings = {"warm", "window"};
   std::optional<SynthesisOptions> selection;  ///< the preset's when unset
+  std::optional<bool> fitAllViews;            ///< PipelineOptions' default when unset
 };
 
 /// Light through a window converges slower than a ceiling rectangle: twice the samples, so both
@@ -652,6 +653,7 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
   p.writeReport = false;
   p.writeGltf = false;
   p.selection = o.selection;
+  if (o.fitAllViews) p.fitAllViews = *o.fitAllViews;
   return p;
 }
 
@@ -997,6 +999,11 @@ int main(int argc, char** argv) {
                  "1: finalists start from their nearest draw, 0: from their defaults");
   app.add_option("--select-warm-fit", warmFit,
                  "1: the fit goes on from the synthesis winner, 0: starts from the defaults");
+  std::string fitViews;
+  app.add_option("--fit-views", fitViews,
+                 "best: each part fitted in the view that sees it best; all: a homogeneous part over "
+                 "every view that sees it well (default: the pipeline's)")
+      ->check(CLI::IsMember({"best", "all"}));
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
   app.add_option("--spp", o.spp,
@@ -1016,6 +1023,7 @@ int main(int argc, char** argv) {
                "report only the cases whose results are cached (run nothing)");
   CLI11_PARSE(app, argc, argv);
   o.lightings = splitList(lightingsArg);
+  if (!fitViews.empty()) o.fitAllViews = fitViews == "all";
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
                            "--select-contrast-ratio", "--select-coarse-scale", "--select-start-draw",
