@@ -28,29 +28,10 @@ using cli_test::contains;
 using cli_test::Result;
 using cli_test::runPhotoscene;
 
-/// A small valid scene in `dir`: a 4 x 2.5 x 3 m room, one 32 x 24 photo, the walls labelled
-/// (the scene of tests/test_cli.cpp's CliScene).
+/// A small valid scene in `dir` (cli_test::writeTinyCase, the scene of tests/test_cli.cpp's
+/// CliScene) with its photo's red channel at `shade`.
 void writeTinyScene(const fs::path& dir, double shade) {
-  fs::create_directories(dir);
-  std::ofstream(dir / "room.obj") << "v -2 0 -1.5\nv 2 0 -1.5\nv 2 0 1.5\nv -2 0 1.5\n"
-                                     "v -2 2.5 -1.5\nv 2 2.5 -1.5\nv 2 2.5 1.5\nv -2 2.5 1.5\n"
-                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                                     "usemtl floor\nf 4/1 3/2 2/3 1/4\n"
-                                     "usemtl walls\nf 1/1 2/2 6/3 5/4\nf 2/1 3/2 7/3 6/4\n"
-                                     "usemtl ceiling\nf 5/1 6/2 7/3 8/4\n";
-  io::writeImage(dir / "photo.png", cv::Mat(24, 32, CV_32FC3, cv::Scalar(shade, 0.3, 0.2)));
-  io::writeRawImage(dir / "labels.png", cv::Mat(24, 32, CV_16UC1, cv::Scalar(7)));
-  const nlohmann::json json = {
-      {"version", 1},
-      {"geometry", "room.obj"},
-      {"views",
-       {{{"image", "photo.png"},
-         {"camera", io::cameraToJson(io::CameraDesc{
-                        32, 24, 25, 25, 15.5, 11.5,
-                        io::lookAtWorldToCamera(Vec3d(0, 1.4, 1.2), Vec3d(0, 1.0, -1.5))})},
-         {"segments", "labels.png"},
-         {"segment_parts", {{"7", "walls"}}}}}},
-      {"parts", {{"ceiling", {{"skip", true}}}}}};
+  const nlohmann::json json = cli_test::writeTinyCase(dir, shade);  // makes the folder
   std::ofstream(dir / "scene.json") << json.dump(1);
 }
 

@@ -35,25 +35,7 @@ Mat4d lookAt(const Vec3d& eye, const Vec3d& target) { return io::lookAtWorldToCa
 struct CliScene {
   TempDir dir;
   nlohmann::json json;
-  CliScene() {
-    std::ofstream(dir / "room.obj") << "v -2 0 -1.5\nv 2 0 -1.5\nv 2 0 1.5\nv -2 0 1.5\n"
-                                       "v -2 2.5 -1.5\nv 2 2.5 -1.5\nv 2 2.5 1.5\nv -2 2.5 1.5\n"
-                                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                                       "usemtl floor\nf 4/1 3/2 2/3 1/4\n"
-                                       "usemtl walls\nf 1/1 2/2 6/3 5/4\nf 2/1 3/2 7/3 6/4\n"
-                                       "usemtl ceiling\nf 5/1 6/2 7/3 8/4\n";
-    io::writeImage(dir / "photo.png", cv::Mat(24, 32, CV_32FC3, cv::Scalar(0.4, 0.3, 0.2)));
-    io::writeRawImage(dir / "labels.png", cv::Mat(24, 32, CV_16UC1, cv::Scalar(7)));
-    json = {{"version", 1},
-            {"geometry", "room.obj"},
-            {"views",
-             {{{"image", "photo.png"},
-               {"camera", io::cameraToJson(io::CameraDesc{32, 24, 25, 25, 15.5, 11.5,
-                                                          lookAt(Vec3d(0, 1.4, 1.2), Vec3d(0, 1.0, -1.5))})},
-               {"segments", "labels.png"},
-               {"segment_parts", {{"7", "walls"}}}}}},
-            {"parts", {{"ceiling", {{"skip", true}}}}}};
-  }
+  CliScene() : json(cli_test::writeTinyCase(dir.path(), 0.4)) {}
   std::string write(const std::string& text = "") {
     std::ofstream(dir / "scene.json") << (text.empty() ? json.dump(1) : text);
     return (dir / "scene.json").string();

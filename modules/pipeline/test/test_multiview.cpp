@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <set>
 
 #include "photoscene/core.hpp"
@@ -148,19 +149,17 @@ std::map<std::string, std::pair<Vec3d, int>> fittedAlbedos(const fs::path& out, 
 class MultiView : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new io::TempDir("ps-multiview");
+    dir_ = std::make_unique<io::TempDir>("ps-multiview");
     makeCase(dir_->path() / "a", {1.0, 0.6, 1.5});
-    a_ = new PipelineResult(runPipeline(caseOptions(dir_->path() / "a")));
+    a_ = std::make_unique<PipelineResult>(runPipeline(caseOptions(dir_->path() / "a")));
   }
   static void TearDownTestSuite() {
-    delete a_;
-    delete dir_;
+    a_.reset();
+    dir_.reset();
   }
-  static io::TempDir* dir_;
-  static PipelineResult* a_;
+  static inline std::unique_ptr<io::TempDir> dir_;
+  static inline std::unique_ptr<PipelineResult> a_;
 };
-io::TempDir* MultiView::dir_ = nullptr;
-PipelineResult* MultiView::a_ = nullptr;
 
 TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_7_percent) {
   ASSERT_EQ(a_->exposure.size(), 3u);

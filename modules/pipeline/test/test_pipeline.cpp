@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
@@ -106,18 +107,16 @@ PipelineOptions sampleOptions(const fs::path& scene, const fs::path& out) {
 class SampleRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new io::TempDir("ps-pipeline");
-    result_ = new PipelineResult(runPipeline(sampleOptions(kSample / "scene.json", dir_->path() / "twin")));
+    dir_ = std::make_unique<io::TempDir>("ps-pipeline");
+    result_ = std::make_unique<PipelineResult>(runPipeline(sampleOptions(kSample / "scene.json", dir_->path() / "twin")));
   }
   static void TearDownTestSuite() {
-    delete result_;
-    delete dir_;
+    result_.reset();
+    dir_.reset();
   }
-  static io::TempDir* dir_;
-  static PipelineResult* result_;
+  static inline std::unique_ptr<io::TempDir> dir_;
+  static inline std::unique_ptr<PipelineResult> result_;
 };
-io::TempDir* SampleRun::dir_ = nullptr;
-PipelineResult* SampleRun::result_ = nullptr;
 
 TEST_F(SampleRun, writes_a_complete_output_folder) {
   const fs::path out = dir_->path() / "twin";

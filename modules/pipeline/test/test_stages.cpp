@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <functional>
+#include <memory>
 
 #include "../src/runner.hpp"
 #include "../src/stages.hpp"
@@ -449,24 +450,22 @@ class StaleCache : public ::testing::Test {
     return runPipeline(o);
   }
   static void SetUpTestSuite() {
-    dir_ = new io::TempDir("ps-stale");
+    dir_ = std::make_unique<io::TempDir>("ps-stale");
     // a sky brighter towards one side, so that rotating it changes the light through the window
     cv::Mat sky(16, 32, CV_32FC3);
     for (int y = 0; y < sky.rows; ++y)
       for (int x = 0; x < sky.cols; ++x)
         sky.at<cv::Vec3f>(y, x) = cv::Vec3f(1, 1, 1) * (0.2f + 2.0f * x / sky.cols);
     io::writeImage(dir_->path() / "sky.exr", sky);
-    base_ = new PipelineResult(run(baseScene()));
+    base_ = std::make_unique<PipelineResult>(run(baseScene()));
   }
   static void TearDownTestSuite() {
-    delete base_;
-    delete dir_;
+    base_.reset();
+    dir_.reset();
   }
-  static io::TempDir* dir_;
-  static PipelineResult* base_;
+  static inline std::unique_ptr<io::TempDir> dir_;
+  static inline std::unique_ptr<PipelineResult> base_;
 };
-io::TempDir* StaleCache::dir_ = nullptr;
-PipelineResult* StaleCache::base_ = nullptr;
 
 TEST_F(StaleCache, an_edited_environment_light_recomputes_the_lights_and_the_grids) {
   nlohmann::json j = baseScene();
