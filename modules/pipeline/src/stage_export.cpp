@@ -161,6 +161,9 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       if (!p.finalists.empty()) {
         m.fitExtra["photo_contrast"] = p.photoContrast;
         m.fitExtra["photo_contrast_coarse"] = p.photoCoarseContrast;
+        // the cell size of the `_coarse` contrasts (pixels a side), for whoever reads them
+        if (p.photoCoarseContrast > 0)
+          m.fitExtra["coarse_contrast_scale"] = in.synthesisOptions().coarseContrastScale;
       }
       if (!p.textureRejected.empty()) m.fitExtra["texture_rejected"] = p.textureRejected;
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
@@ -262,10 +265,11 @@ class ExportStage : public Stage {
  public:
   explicit ExportStage(std::vector<std::string> after) {
     decl.name = "export";
-    decl.version = 8;
+    // 9: fit.coarse_contrast_scale in the materials files
+    decl.version = 9;
     decl.scene = {""};
     decl.options = {"texture_size", "preset",     "render_spp", "denoise",
-                    "baseline",     "write_gltf", "library"};
+                    "baseline",     "write_gltf", "library",    "selection"};
     decl.after = std::move(after);
     decl.writes = {"OUT/materials/*.json",
                    "OUT/textures/*",

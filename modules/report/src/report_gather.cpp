@@ -414,6 +414,10 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
   }
   p.photoContrast = num(path(p.material, {"fit", "photo_contrast"}));
   p.photoCoarseContrast = num(path(p.material, {"fit", "photo_contrast_coarse"}));
+  // absent in folders written before the key (their scale was 2)
+  if (const json* s = path(p.material, {"fit", "coarse_contrast_scale"});
+      s && s->is_number_integer() && s->get<int>() > 1)
+    p.coarseScale = s->get<int>();
   if (const json* r = path(p.material, {"fit", "texture_rejected"}); r && r->is_string())
     p.textureRejected = r->get<std::string>();
   return p;

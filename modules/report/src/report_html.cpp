@@ -344,6 +344,8 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
     }
     // why: the short fits on the part, and the tests a texture had to pass
     if (!p.finalists.empty()) {
+      const std::string cells =
+          std::to_string(p.coarseScale) + " x " + std::to_string(p.coarseScale) + " cells";
       h << "<p class=\"note finalists\">Decided by short fits on the part (lowest loss first): ";
       for (size_t i = 0; i < p.finalists.size(); ++i) {
         const ReportFinalist& f = p.finalists[i];
@@ -352,7 +354,7 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
         if (std::isfinite(f.contrast) && f.graph != "homogeneous") {
           h << ", contrast " << fmtNum(f.contrast, 3);
           if (std::isfinite(f.coarseContrast) && f.coarseContrast > 0)
-            h << " (" << fmtNum(f.coarseContrast, 3) << " at 2 x 2 cells)";
+            h << " (" << fmtNum(f.coarseContrast, 3) << " at " << cells << ")";
         }
         if (!f.qualifies) h << " (more structure or pixel error than the photo allows)";
       }
@@ -360,12 +362,12 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
       if (std::isfinite(p.photoContrast) && p.photoContrast > 0)
         h << " The photo's typical local contrast: " << fmtNum(p.photoContrast, 3)
           << (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0
-                  ? " (" + fmtNum(p.photoCoarseContrast, 3) + " at 2 x 2 cells)"
+                  ? " (" + fmtNum(p.photoCoarseContrast, 3) + " at " + cells + ")"
                   : std::string())
           << ".";
       h << " A graph must beat the homogeneous loss by the margin and pass both tests.";
       if (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0)
-        h << " At 2 x 2 cells a graph is judged by the contrast it adds to the homogeneous"
+        h << " At " << cells << " a graph is judged by the contrast it adds to the homogeneous"
              " render's (the incident-light grid's noise is in both).";
       if (!p.textureRejected.empty())
         h << " The full fit of <b>" << html(p.textureRejected)

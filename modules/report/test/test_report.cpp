@@ -122,6 +122,14 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15, contrast 0.05;"));
   EXPECT_TRUE(contains(cells, "typical local contrast: 0.06 (0.045 at 2 x 2 cells)."));
   EXPECT_TRUE(contains(cells, "the contrast it adds to the homogeneous render's"));
+  // the cells are as large as the materials file says (fit.coarse_contrast_scale; 2 when absent)
+  m["fit"]["coarse_contrast_scale"] = 3;
+  io::writeJsonFile(mf, m);
+  writeReport(out, o);
+  const std::string page3 = io::readTextFile(out / "report.html");
+  EXPECT_TRUE(contains(page3, "typical local contrast: 0.06 (0.045 at 3 x 3 cells)."));
+  EXPECT_TRUE(contains(page3, "contrast 0.31 (0.4 at 3 x 3 cells)"));
+  EXPECT_FALSE(contains(page3, "2 x 2 cells"));
   const cv::Mat preview = io::readImage(out / "previews/tile_hexagon.png");
   EXPECT_EQ(preview.cols, o.candidatePreviewSize);
   // parts without candidates (the other GT materials) get no row
