@@ -152,6 +152,37 @@ TEST(Graph_Format, bad_files_are_input_errors) {
     EXPECT_EQ(e.file(), "b.json");
     EXPECT_EQ(e.where(), "category");
   }
+  // each error names where in the file it is
+  const auto where = [&](const std::string& text) -> std::string {
+    try {
+      ps::MaterialGraph::fromString(text, "w.json");
+    } catch (const ps::InputError& e) {
+      return e.where();
+    }
+    return "(parsed)";
+  };
+  EXPECT_EQ(where(bad("\"height\":\"r\"", "\"height\":\"r.nope\"")), "nodes[2].inputs.height");
+  EXPECT_EQ(where(bad("\"height\":\"r\"", "\"hue\":\"r\"")), "nodes[2].inputs.hue");
+  EXPECT_EQ(where(bad("\"roughness\":\"r\"", "\"roughness\":\"c\"")), "outputs.roughness");
+  EXPECT_EQ(where(bad(",\"roughness\":\"r\"", "")), "outputs.roughness");
+  EXPECT_EQ(where(bad("\"id\":\"r\"", "\"id\":\"c\"")), "nodes[1].id");
+  // ... and with one exposed parameter
+  const auto withParameter = [&](const std::string& p) {
+    return bad("\"roughness\":\"r\"}}", "\"roughness\":\"r\"},\"parameters\":[" + p + "]}");
+  };
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["r.value"]})")), "(parsed)");
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["c.nope"]})")),
+            "parameters[0].targets[0]");
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["zz.value"]})")),
+            "parameters[0].targets[0]");
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["r.value","c.color"]})")),
+            "parameters[0].targets[1]");
+  EXPECT_EQ(where(withParameter(R"({"name":"albedo_offset","targets":["r.value"]})")),
+            "parameters[0].name");
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["r.value"],"min":2})")), "parameters[0]");
+  EXPECT_EQ(where(withParameter(R"({"name":"k","targets":["r.value"],"default":"x"})")),
+            "parameters[0].default");
+  EXPECT_EQ(where(ok), "(parsed)");
 }
 
 // Every continuous parameter of every graph; double precision; same tolerance as the nodes.
