@@ -45,6 +45,205 @@ bool DenoiseOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+/// The image being filtered, one entry per pixel (row-major): the demodulated radiance and its
+/// luminance variance, which each à-trous level replaces, and the guides.
+struct Frame {
+  int W = 0, H = 0;
+  std::vector<cv::Vec3f> demod, albedo, normal;
+  std::vector<float> depth, gradZ, var;
+  std::vector<uint8_t> surface;  ///< the depth guide shows a surface (finite, positive)
+  size_t at(int x, int y) const { return size_t(y) * W + x; }
+};
+
+/// Radiance divided by the albedo (clamped to [albedoEpsilon, 1]); NaN and negative values of
+/// every input -> 0 (a NaN albedo -> 1, a pixel without a surface keeps depth 0).
+Frame demodulate(const DenoiseGuides& g, const cv::Mat& noisy, const DenoiseOptions& o) {
+  Frame f;
+  f.W = noisy.cols;
+  f.H = noisy.rows;
+  const size_t N = size_t(f.W) * f.H;
+  f.demod.resize(N);
+  f.albedo.resize(N);
+  f.normal.resize(N);
+  f.depth.resize(N);
+  f.gradZ.assign(N, 0.0f);
+  f.var.assign(N, 0.0f);
+  f.surface.resize(N);
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      const cv::Vec3f c = noisy.at<cv::Vec3f>(int(y), x);
+      const cv::Vec3f a = g.albedo.at<cv::Vec3f>(int(y), x);
+      const float z = g.depth.at<float>(int(y), x);
+      f.surface[i] = std::isfinite(z) && z > 0.0f;
+      f.depth[i] = f.surface[i] ? z : 0.0f;
+      cv::Vec3f n = g.normal.at<cv::Vec3f>(int(y), x);
+      for (int k = 0; k < 3; ++k) n[k] = std::isfinite(n[k]) ? n[k] : 0.0f;
+      f.normal[i] = n;
+      for (int k = 0; k < 3; ++k) {
+        f.albedo[i][k] = std::max(std::isfinite(a[k]) ? std::min(a[k], 1.0f) : 1.0f, o.albedoEpsilon);
+        f.demod[i][k] = finitePositive(c[k]) / f.albedo[i][k];
+      }
+    }
+  });
+  return f;
+}
+
+/// Depth gradient (px^-1) per surface pixel: per axis the smaller one-sided difference to a
+/// surface neighbour (a depth edge next to the pixel is not its slope).
+void depthGradient(Frame& f) {
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      if (!f.surface[i]) continue;
+      auto slope = [&](int dx, int dy) {
+        float s = std::numeric_limits<float>::infinity();
+        for (int sgn : {-1, 1}) {
+          const int xx = x + sgn * dx, yy = int(y) + sgn * dy;
+          if (xx < 0 || yy < 0 || xx >= f.W || yy >= f.H) continue;
+          const size_t j = f.at(xx, yy);
+          if (!f.surface[j]) continue;
+          s = std::min(s, std::abs(f.depth[j] - f.depth[i]));
+        }
+        return std::isfinite(s) ? s : 0.0f;
+      };
+      const float gx = slope(1, 0), gy = slope(0, 1);
+      f.gradZ[i] = std::sqrt(gx * gx + gy * gy);
+    }
+  });
+}
+
+/// The demodulated luminance's variance before filtering: the renderer's per-pixel variance
+/// divided by the albedo's luminance squared where given, else a spatial estimate (the variance
+/// over the 5x5 neighbours on the same surface: normal within ~25 degrees, depth on the local
+/// plane).
+void initialVariance(Frame& f, const cv::Mat& variance) {
+  if (!variance.empty()) {
+    parallelFor(0, f.H, [&](int64_t y) {
+      for (int x = 0; x < f.W; ++x) {
+        const size_t i = f.at(x, int(y));
+        const float la = luminance(f.albedo[i]);
+        f.var[i] = finitePositive(variance.at<float>(int(y), x)) / (la * la);
+      }
+    });
+    return;
+  }
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      if (!f.surface[i]) continue;
+      double s = 0, s2 = 0;
+      int n = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int xx = x + dx, yy = int(y) + dy;
+          if (xx < 0 || yy < 0 || xx >= f.W || yy >= f.H) continue;
+          const size_t j = f.at(xx, yy);
+          if (!f.surface[j] || f.normal[i].dot(f.normal[j]) < 0.9f) continue;
+          const float r = std::sqrt(float(dx * dx + dy * dy));
+          if (std::abs(f.depth[j] - f.depth[i]) > 2.0f * f.gradZ[i] * r + 1e-2f * f.depth[i]) continue;
+          const double l = luminance(f.demod[j]);
+          s += l;
+          s2 += l * l;
+          ++n;
+        }
+      f.var[i] = n > 1 ? float(std::max(0.0, (s2 - s * s / n) / (n - 1))) : 0.0f;
+    }
+  });
+}
+
+/// 3x3 Gaussian of the variance over surface pixels, for the luminance edge-stop (SVGF).
+void blurVariance(const Frame& f, std::vector<float>& out) {
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      if (!f.surface[i]) continue;
+      float s = 0, ws = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = int(y) + dy;
+          if (xx < 0 || yy < 0 || xx >= f.W || yy >= f.H) continue;
+          const size_t j = f.at(xx, yy);
+          if (!f.surface[j]) continue;
+          const float w = (dx ? 0.5f : 1.0f) * (dy ? 0.5f : 1.0f);
+          s += w * f.var[j];
+          ws += w;
+        }
+      out[i] = s / ws;
+    }
+  });
+}
+
+/// One à-trous level (taps `step` pixels apart, B3 spline weights) with the normal, depth and
+/// luminance edge-stops: f.demod and f.var replaced by the filtered values (`next`, `nextVar`
+/// and `varBlur` are scratch of the frame's size).
+void atrousLevel(Frame& f, int step, const DenoiseOptions& o, std::vector<cv::Vec3f>& next,
+                 std::vector<float>& nextVar, std::vector<float>& varBlur) {
+  blurVariance(f, varBlur);
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      if (!f.surface[i]) {
+        next[i] = f.demod[i];
+        nextVar[i] = f.var[i];
+        continue;
+      }
+      const float lp = luminance(f.demod[i]);
+      const float lumDenom = o.sigmaLuminance * std::sqrt(varBlur[i]) + 1e-6f;
+      const cv::Vec3f np = f.normal[i];
+      const float zp = f.depth[i];
+      cv::Vec3f sum(0, 0, 0);
+      float wsum = 0, vsum = 0;
+      for (int ky = 0; ky < 5; ++ky) {
+        const int yy = int(y) + (ky - 2) * step;
+        if (yy < 0 || yy >= f.H) continue;
+        for (int kx = 0; kx < 5; ++kx) {
+          const int xx = x + (kx - 2) * step;
+          if (xx < 0 || xx >= f.W) continue;
+          const size_t j = f.at(xx, yy);
+          if (!f.surface[j]) continue;
+          float w = kB3[kx] * kB3[ky];
+          if (j != i) {
+            const float nd = std::max(0.0f, np.dot(f.normal[j]));
+            const float wn = o.sigmaNormal > 0 ? std::pow(nd, o.sigmaNormal) : 1.0f;
+            const float off = step * std::sqrt(float((kx - 2) * (kx - 2) + (ky - 2) * (ky - 2)));
+            const float wz =
+                std::exp(-std::abs(zp - f.depth[j]) / (o.sigmaDepth * f.gradZ[i] * off + 1e-3f * zp));
+            const float wl = std::exp(-std::abs(lp - luminance(f.demod[j])) / lumDenom);
+            w *= wn * wz * wl;
+          }
+          sum += w * f.demod[j];
+          wsum += w;
+          vsum += w * w * f.var[j];
+        }
+      }
+      // wsum >= kB3[2]^2 > 0: the center tap always counts.
+      next[i] = sum / wsum;
+      nextVar[i] = vsum / (wsum * wsum);
+    }
+  });
+  f.demod.swap(next);
+  f.var.swap(nextVar);
+}
+
+/// The filtered radiance times the albedo again (NaN and negative -> 0).
+cv::Mat remodulate(const Frame& f) {
+  cv::Mat out(f.H, f.W, CV_32FC3);
+  parallelFor(0, f.H, [&](int64_t y) {
+    for (int x = 0; x < f.W; ++x) {
+      const size_t i = f.at(x, int(y));
+      cv::Vec3f c;
+      for (int k = 0; k < 3; ++k) c[k] = finitePositive(f.demod[i][k] * f.albedo[i][k]);
+      out.at<cv::Vec3f>(int(y), x) = c;
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
 cv::Mat denoise(const DenoiseGuides& g, const cv::Mat& noisy, const DenoiseOptions& o) {
   std::string err;
   if (!o.IsValid(&err)) throw std::invalid_argument("ps::denoise: " + err);
@@ -55,168 +254,16 @@ cv::Mat denoise(const DenoiseGuides& g, const cv::Mat& noisy, const DenoiseOptio
   checkGuide(g.normal, CV_32FC3, size, "normal");
   checkGuide(g.depth, CV_32FC1, size, "depth");
   if (!g.variance.empty()) checkGuide(g.variance, CV_32FC1, size, "variance");
-  const int W = size.width, H = size.height;
-  const size_t N = size_t(W) * H;
+  const size_t N = size_t(size.width) * size.height;
   if (N == 0) return cv::Mat(size, CV_32FC3);
 
-  // Demodulate; clean the inputs (NaN / negative -> 0).
-  std::vector<cv::Vec3f> demod(N), albedo(N), normal(N);
-  std::vector<float> depth(N), gradZ(N, 0.0f), var(N, 0.0f);
-  std::vector<uint8_t> surface(N);
-  parallelFor(0, H, [&](int64_t y) {
-    for (int x = 0; x < W; ++x) {
-      const size_t i = size_t(y) * W + x;
-      const cv::Vec3f c = noisy.at<cv::Vec3f>(int(y), x);
-      const cv::Vec3f a = g.albedo.at<cv::Vec3f>(int(y), x);
-      const float z = g.depth.at<float>(int(y), x);
-      surface[i] = std::isfinite(z) && z > 0.0f;
-      depth[i] = surface[i] ? z : 0.0f;
-      cv::Vec3f n = g.normal.at<cv::Vec3f>(int(y), x);
-      for (int k = 0; k < 3; ++k) n[k] = std::isfinite(n[k]) ? n[k] : 0.0f;
-      normal[i] = n;
-      for (int k = 0; k < 3; ++k) {
-        albedo[i][k] = std::max(std::isfinite(a[k]) ? std::min(a[k], 1.0f) : 1.0f, o.albedoEpsilon);
-        demod[i][k] = finitePositive(c[k]) / albedo[i][k];
-      }
-    }
-  });
-  // Depth gradient (px^-1), one-sided where a neighbour is background.
-  parallelFor(0, H, [&](int64_t y) {
-    for (int x = 0; x < W; ++x) {
-      const size_t i = size_t(y) * W + x;
-      if (!surface[i]) continue;
-      auto slope = [&](int dx, int dy) {
-        // The smaller one-sided difference: a depth edge next to the pixel is not its slope.
-        float s = std::numeric_limits<float>::infinity();
-        for (int sgn : {-1, 1}) {
-          const int xx = x + sgn * dx, yy = int(y) + sgn * dy;
-          if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
-          const size_t j = size_t(yy) * W + xx;
-          if (!surface[j]) continue;
-          s = std::min(s, std::abs(depth[j] - depth[i]));
-        }
-        return std::isfinite(s) ? s : 0.0f;
-      };
-      const float gx = slope(1, 0), gy = slope(0, 1);
-      gradZ[i] = std::sqrt(gx * gx + gy * gy);
-    }
-  });
-
-  // Initial luminance variance of the demodulated signal.
-  if (!g.variance.empty()) {
-    parallelFor(0, H, [&](int64_t y) {
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x;
-        const float la = luminance(albedo[i]);
-        var[i] = finitePositive(g.variance.at<float>(int(y), x)) / (la * la);
-      }
-    });
-  } else {
-    // Spatial estimate: variance of the demodulated luminance over the 5x5 neighbours on the
-    // same surface (normal within ~25 degrees, depth on the local plane).
-    parallelFor(0, H, [&](int64_t y) {
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x;
-        if (!surface[i]) continue;
-        double s = 0, s2 = 0;
-        int n = 0;
-        for (int dy = -2; dy <= 2; ++dy)
-          for (int dx = -2; dx <= 2; ++dx) {
-            const int xx = x + dx, yy = int(y) + dy;
-            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
-            const size_t j = size_t(yy) * W + xx;
-            if (!surface[j] || normal[i].dot(normal[j]) < 0.9f) continue;
-            const float r = std::sqrt(float(dx * dx + dy * dy));
-            if (std::abs(depth[j] - depth[i]) > 2.0f * gradZ[i] * r + 1e-2f * depth[i]) continue;
-            const double l = luminance(demod[j]);
-            s += l;
-            s2 += l * l;
-            ++n;
-          }
-        var[i] = n > 1 ? float(std::max(0.0, (s2 - s * s / n) / (n - 1))) : 0.0f;
-      }
-    });
-  }
-
+  Frame f = demodulate(g, noisy, o);
+  depthGradient(f);
+  initialVariance(f, g.variance);
   std::vector<cv::Vec3f> next(N);
   std::vector<float> nextVar(N), varBlur(N);
-  for (int level = 0; level < o.levels; ++level) {
-    const int step = 1 << level;
-    // 3x3 Gaussian of the variance for the luminance edge-stop (SVGF).
-    parallelFor(0, H, [&](int64_t y) {
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x;
-        if (!surface[i]) continue;
-        float s = 0, ws = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = x + dx, yy = int(y) + dy;
-            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
-            const size_t j = size_t(yy) * W + xx;
-            if (!surface[j]) continue;
-            const float w = (dx ? 0.5f : 1.0f) * (dy ? 0.5f : 1.0f);
-            s += w * var[j];
-            ws += w;
-          }
-        varBlur[i] = s / ws;
-      }
-    });
-    parallelFor(0, H, [&](int64_t y) {
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x;
-        if (!surface[i]) {
-          next[i] = demod[i];
-          nextVar[i] = var[i];
-          continue;
-        }
-        const float lp = luminance(demod[i]);
-        const float lumDenom = o.sigmaLuminance * std::sqrt(varBlur[i]) + 1e-6f;
-        const cv::Vec3f np = normal[i];
-        const float zp = depth[i];
-        cv::Vec3f sum(0, 0, 0);
-        float wsum = 0, vsum = 0;
-        for (int ky = 0; ky < 5; ++ky) {
-          const int yy = int(y) + (ky - 2) * step;
-          if (yy < 0 || yy >= H) continue;
-          for (int kx = 0; kx < 5; ++kx) {
-            const int xx = x + (kx - 2) * step;
-            if (xx < 0 || xx >= W) continue;
-            const size_t j = size_t(yy) * W + xx;
-            if (!surface[j]) continue;
-            float w = kB3[kx] * kB3[ky];
-            if (j != i) {
-              const float nd = std::max(0.0f, np.dot(normal[j]));
-              const float wn = o.sigmaNormal > 0 ? std::pow(nd, o.sigmaNormal) : 1.0f;
-              const float off = step * std::sqrt(float((kx - 2) * (kx - 2) + (ky - 2) * (ky - 2)));
-              const float wz =
-                  std::exp(-std::abs(zp - depth[j]) / (o.sigmaDepth * gradZ[i] * off + 1e-3f * zp));
-              const float wl = std::exp(-std::abs(lp - luminance(demod[j])) / lumDenom);
-              w *= wn * wz * wl;
-            }
-            sum += w * demod[j];
-            wsum += w;
-            vsum += w * w * var[j];
-          }
-        }
-        // wsum >= kB3[2]^2 > 0: the center tap always counts.
-        next[i] = sum / wsum;
-        nextVar[i] = vsum / (wsum * wsum);
-      }
-    });
-    demod.swap(next);
-    var.swap(nextVar);
-  }
-
-  cv::Mat out(size, CV_32FC3);
-  parallelFor(0, H, [&](int64_t y) {
-    for (int x = 0; x < W; ++x) {
-      const size_t i = size_t(y) * W + x;
-      cv::Vec3f c;
-      for (int k = 0; k < 3; ++k) c[k] = finitePositive(demod[i][k] * albedo[i][k]);
-      out.at<cv::Vec3f>(int(y), x) = c;
-    }
-  });
-  return out;
+  for (int level = 0; level < o.levels; ++level) atrousLevel(f, 1 << level, o, next, nextVar, varBlur);
+  return remodulate(f);
 }
 
 DenoiseGuides denoiseGuides(const PathTracer& tracer, const GBuffer& gb) {
