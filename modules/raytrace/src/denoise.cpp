@@ -48,7 +48,7 @@ bool DenoiseOptions::IsValid(std::string* error) const {
 namespace {
 
 /// The image being filtered, one entry per pixel (row-major): the demodulated radiance and its
-/// luminance variance, which each à-trous level replaces, and the guides.
+/// luminance variance, which each a-trous level replaces, and the guides.
 struct Frame {
   int W = 0, H = 0;
   std::vector<cv::Vec3f> demod, albedo, normal;
@@ -176,7 +176,7 @@ void blurVariance(const Frame& f, std::vector<float>& out) {
   });
 }
 
-/// One à-trous level (taps `step` pixels apart, B3 spline weights) with the normal, depth and
+/// One a-trous level (taps `step` pixels apart, B3 spline weights) with the normal, depth and
 /// luminance edge-stops: f.demod and f.var replaced by the filtered values (`next`, `nextVar`
 /// and `varBlur` are scratch of the frame's size).
 void atrousLevel(Frame& f, int step, const DenoiseOptions& o, std::vector<cv::Vec3f>& next,
