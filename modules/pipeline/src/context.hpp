@@ -26,14 +26,20 @@ struct PresetBudget {
   int lightSpp = 32;        ///< one-light-at-a-time renders
   int incidentSamples = 4;  ///< samples per incident-light bin
   int incidentStride = 8;
-  /// light samples per light at every incident-grid point (IncidentLightOptions::directSamples).
-  /// 0 in every preset: with the lamps sampled, the grid's shading is far less noisy (spread over
-  /// seeds 33 % -> 11 %) and fitted roughness lands nearer the truth (yardstick check half:
-  /// within 0.15 on 28.6 % -> 39.3 % of parts), but the flat material's render loses the noise
-  /// that had matched some of the photo's texture energy, textured finalists win more parts, and
-  /// the pixel error rises (check 18.70 -> 19.77; blender-room view 0 16.73 -> 18.19, the
-  /// bundled sample 11.12 -> 11.72). Off until selection stops favouring texture.
+  /// light samples per light at every point of round 0's incident-light grids (incident0:
+  /// select, fit, refine0; IncidentLightOptions::directSamples). 0: the lamps are found by the
+  /// bins' path samples alone, and the grid's shading varies by tens of percent from point to
+  /// point. Selection has come to rely on that noise: with the lamps sampled the flat material's
+  /// render loses the blotches that matched some of the photo's texture energy, textured finalists
+  /// win more parts and the pixel error rises (yardstick check half, 1cc2d00: masked RMSE 16.41 ->
+  /// 17.45, 8 of 56 parts change graph, a cracked concrete floor to a glossy parquet checker at
+  /// RMSE 44). Off in round 0 until selection stops favouring texture (issue 17).
   int incidentDirectSamples = 0;
+  /// ... and of round 1's (incident1: refine1 and the bounce stage, which set every final albedo
+  /// and roughness, not the graphs). With the lamps sampled the grids' shading is right to a few
+  /// percent where path samples alone leave 5-7 % per part (three synthetic views, exact
+  /// geometry, balanced: the sofa 5.9 % off; with them every part within 2.6 %, MultiView.*).
+  int incident1DirectSamples = 32;
   int renderSpp = 16;  ///< final renders (denoised by default: 16 spp denoised beats 64 raw)
   /// the evaluation's novel and relit renders: what their noise floor needs once denoised (the
   /// twin's own error against the ground truth is several times the noise left at 8 spp)
@@ -72,6 +78,9 @@ struct ViewSeen {
   double meanCosine = 0;  ///< mean |cos| between the surface normal and the view direction
   double agreement = 1;   ///< appearance agreement with the other views (align::chooseView)
   double score = 0;       ///< pixels x mean cos x agreement: the largest is the part's view
+  /// of the points of the part's M_aln in this view that its other views see on the part, the
+  /// share in their M_aln (align::maskConsistency, pooled over the other views); -1: none seen
+  double maskConsistency = -1;
 };
 
 enum class PartMode { Fit, Homogeneous, Fixed, Skip, Emitter, Window, Unseen };

@@ -29,8 +29,9 @@ class IncidentStage : public Stage {
     // bounce fewer (the point's own scatter is the first; raytrace/incident_light.cpp); 4: the
     // direct light can also be sampled from the lights, combined by MIS
     // (IncidentLightOptions::directSamples; PresetBudget::incidentDirectSamples, 0 for now);
-    // 5: round 1 records what each point's light owes to each part's albedo (stage_bounce.cpp)
-    decl.version = 5;
+    // 5: round 1 records what each point's light owes to each part's albedo (stage_bounce.cpp);
+    // 6: round 1 samples the lamps (PresetBudget::incident1DirectSamples)
+    decl.version = 6;
     decl.writes = {"ViewWork::grid"};
     if (round == 1) decl.writes.push_back("PartWork::gridAlbedo");
   }
@@ -44,7 +45,8 @@ class IncidentStage : public Stage {
     IncidentLightOptions o;
     o.stride = in.budget().incidentStride;
     o.samplesPerBin = in.budget().incidentSamples;
-    o.directSamples = in.budget().incidentDirectSamples;
+    o.directSamples =
+        round_ == 1 ? in.budget().incident1DirectSamples : in.budget().incidentDirectSamples;
     o.render.seed = in.seed() + 101 * v;
     o.albedoSensitivity = round_ == 1;
     // only the parts fitted in this view read its grid (fit, refine, baselines)

@@ -43,21 +43,28 @@ Vec3f trueAlbedo(int id) {
   return palette[id % 11];
 }
 
+/// What the synthetic case varies.
+struct CaseSpec {
+  std::vector<double> exposure;  ///< per view: the photo is the render times this
+  /// multiplies every light's radiance in the photos (not in scene.json, whose lights are fitted)
+  Vec3f tint = Vec3f(1, 1, 1);
+  std::set<std::string> fixed;  ///< parts given in scene.json with their true material
+  bool givenLights = false;     ///< scene.json gives the lights' true radiance (times `tint`)
+  /// scene.json's geometry is the one the photos were rendered from (room_exact.obj), not the
+  /// coarse one (room.obj: furniture moved, turned and scaled as coarse CAD would be)
+  bool exactGeometry = false;
+};
+
 /// Renders the sample's exact geometry and lights, every part homogeneous (trueAlbedo, roughness
-/// 0.8), from every camera, times `exposure[v]`, as linear EXR photos with label images, and
-/// writes DIR/scene.json over the coarse geometry with the two ceiling lights to fit and every
-/// part's graph `homogeneous` (the fit in closed form: what is tested is the exposure).
-/// `tint` multiplies every light's radiance in the photos (not in scene.json, whose lights are
-/// fitted); the parts in `fixed` are given in scene.json with their true material. With
-/// `givenLights`, scene.json gives the lights' true radiance (times `tint`) instead.
-void makeCase(const fs::path& dir, const std::vector<double>& exposure,
-              const Vec3f& tint = Vec3f(1, 1, 1), const std::set<std::string>& fixed = {},
-              bool givenLights = false) {
+/// 0.8), from every camera, times the view's exposure, as linear EXR photos with label images,
+/// and writes DIR/scene.json with the two ceiling lights to fit and every part's graph
+/// `homogeneous` (the fit in closed form: what is tested is the exposure), as `spec` says.
+void makeCase(const fs::path& dir, const CaseSpec& spec) {
   fs::create_directories(dir / "photos");
   fs::create_directories(dir / "segments");
   Twin twin = loadTwin(kSample / "gt/twin");
   for (Light* l : twin.scene.lights.all())
-    if (const std::optional<Vec3f> s = l->scale()) l->setScale(s->cwiseProduct(tint));
+    if (const std::optional<Vec3f> s = l->scale()) l->setScale(s->cwiseProduct(spec.tint));
   std::vector<PartMaterial> materials;
   for (const Part& p : twin.scene.parts) {
     PartMaterial m = PartMaterial::defaultGray(p.name);
@@ -73,7 +80,7 @@ void makeCase(const fs::path& dir, const std::vector<double>& exposure,
   const std::vector<io::CameraDesc> cams = cameras();
   for (size_t v = 0; v < cams.size(); ++v) {
     const Camera cam = Camera::fromDesc(cams[v]);
-    cv::Mat photo = tracer.render(cam, ro) * exposure[v];
+    cv::Mat photo = tracer.render(cam, ro) * spec.exposure[v];
     const std::string name = "view" + std::to_string(v);
     io::writeImage(dir / "photos" / (name + ".exr"), photo);
     const GBuffer gb = renderGBuffer(tracer, cam);
@@ -93,9 +100,9 @@ void makeCase(const fs::path& dir, const std::vector<double>& exposure,
                      {"segment_parts", pinned}});
   }
   nlohmann::json scene = io::readJsonFile(kSample / "scene.json");
-  scene["geometry"] = (kSample / "room.obj").string();
+  scene["geometry"] = (kSample / (spec.exactGeometry ? "room_exact.obj" : "room.obj")).string();
   scene["views"] = views;
-  if (givenLights) {
+  if (spec.givenLights) {
     const std::vector<Light*> lights = twin.scene.lights.all();
     ASSERT_EQ(scene["lights"]["area"].size(), lights.size());
     for (size_t k = 0; k < lights.size(); ++k) {
@@ -105,7 +112,7 @@ void makeCase(const fs::path& dir, const std::vector<double>& exposure,
   }
   for (const Part& p : twin.scene.parts) {
     const Vec3f a = trueAlbedo(p.id);
-    if (fixed.count(p.name))
+    if (spec.fixed.count(p.name))
       scene["parts"][p.name]["fixed"] = {{"albedo", {a.x(), a.y(), a.z()}}, {"roughness", 0.8}};
     else
       scene["parts"][p.name]["graph"] = "homogeneous";
@@ -150,7 +157,7 @@ class MultiView : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<io::TempDir>("ps-multiview");
-    makeCase(dir_->path() / "a", {1.0, 0.6, 1.5});
+    makeCase(dir_->path() / "a", {.exposure = {1.0, 0.6, 1.5}, .exactGeometry = true});
     a_ = std::make_unique<PipelineResult>(runPipeline(caseOptions(dir_->path() / "a")));
   }
   static void TearDownTestSuite() {
@@ -161,39 +168,54 @@ class MultiView : public ::testing::Test {
   static inline std::unique_ptr<PipelineResult> a_;
 };
 
-TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_10_percent) {
+TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_5_percent) {
   ASSERT_EQ(a_->exposure.size(), 3u);
   EXPECT_DOUBLE_EQ(a_->exposure[0], 1.0);
   EXPECT_NEAR(a_->exposure[1], 0.6, 0.6 * 0.03);
   EXPECT_NEAR(a_->exposure[2], 1.5, 1.5 * 0.03);
-  // One scale for all albedos stays open (brighter lights, darker materials): the recovered
-  // albedos' luminances are compared after the median ratio over parts. The parts compared are
-  // those a view sees well (at least 300 pixels of M_aln at a mean |cos| of at least 0.3): the
-  // ceiling, seen only at grazing angles and lit only by the walls, is left out.
+  // One scale per channel for all albedos stays open (brighter or warmer lights, darker or cooler
+  // materials): the recovered albedos are compared after the median ratio over the parts, their
+  // luminance and each channel. The parts compared are those a view sees well (at least 300
+  // pixels of M_aln at a mean |cos| of at least 0.3): the ceiling, seen only at grazing angles
+  // and lit only by the walls, is left out.
   const Scene scene = loadScene(dir_->path() / "a/scene.json", {.loadPhotos = false});
   const auto got = fittedAlbedos(dir_->path() / "a/twin", 300, 0.3);
   ASSERT_GE(got.size(), 6u);
-  std::vector<double> ratio;
-  for (const auto& [name, a] : got)
-    ratio.push_back(luminance(a.first) /
-                    luminance(Vec3d(trueAlbedo(scene.partId(name)).cast<double>())));
-  std::sort(ratio.begin(), ratio.end());
-  const double scale = ratio[ratio.size() / 2];
+  const auto truth = [&](const std::string& name) {
+    return Vec3d(trueAlbedo(scene.partId(name)).cast<double>());
+  };
+  const auto median = [](std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    return x[x.size() / 2];
+  };
+  std::vector<double> lum;
+  std::vector<double> channel[3];
+  for (const auto& [name, a] : got) {
+    lum.push_back(luminance(a.first) / luminance(truth(name)));
+    for (int c = 0; c < 3; ++c) channel[c].push_back(a.first[c] / truth(name)[c]);
+  }
+  const double lumScale = median(lum);
+  const Vec3d scale(median(channel[0]), median(channel[1]), median(channel[2]));
   std::set<int> views;
   for (const auto& [name, a] : got) {
-    const double r = luminance(a.first) /
-                     luminance(Vec3d(trueAlbedo(scene.partId(name)).cast<double>())) / scale;
-    std::printf("%-12s view %d  albedo / truth (luminance, scaled) %.3f\n", name.c_str(), a.second,
-                r);
-    // 10 %: measured (balanced, 160 x 120) every part within 3 % but the left wall, fitted in
-    // view 1, at 5.8 % (1.9 % of it the exposure's error) while a homogeneous part's roughness
-    // came from statLoss; since it comes from a predicted highlight and the prior
-    // (optim/homogeneous_fit.hpp: the truth here is 0.8, the prior's centre 0.48, and the
-    // specular share moves the closed-form albedo) 0.2-8.6 %, the left wall again the worst; with
-    // the light solve's free factor per part and the grid's bounce count (393b7e1) 0-8.9 %, the
-    // cabinet the worst, the left wall 2.3 %. A part that took its view's exposure into its
-    // albedo would be 40 % or 50 % off
-    EXPECT_NEAR(r, 1.0, 0.10) << name << " (fitted in view " << a.second << ")";
+    const double l = luminance(a.first) / luminance(truth(name)) / lumScale;
+    const Vec3d r = a.first.cwiseQuotient(truth(name)).cwiseQuotient(scale);
+    std::printf("%-12s view %d  albedo / truth, scaled: luminance %.3f, channels %.3f %.3f %.3f\n",
+                name.c_str(), a.second, l, r[0], r[1], r[2]);
+    // the luminance within 5 % (the bar): measured within 2.6 % (balanced, 160 x 120)
+    // with the lamps sampled in round 1's incident grids (PresetBudget::incident1DirectSamples),
+    // which set the final albedos; with path samples alone the sofa was 5.9 % off. A part that
+    // took its view's exposure into its albedo would be 40 % or 50 % off. On the coarse geometry
+    // (room.obj) the cabinet, whose side faces the camera and takes the lamps' light at a grazing
+    // angle, comes out 5.6 % too bright (9.1 % without the lamps sampled): a turn of 1-3 degrees
+    // moves its shading that much, whatever the exposure.
+    EXPECT_NEAR(l, 1.0, 0.05) << name << " (fitted in view " << a.second << ")";
+    // each channel within 8 %: measured within 5.1 % (table_top's red). The two lamps' colours
+    // are solved with the albedos (lighting/solve.hpp), and one lamp comes out about 6 % brighter
+    // than the other against the truth, which moves the parts each lights most
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(r[c], 1.0, 0.08)
+          << name << " channel " << c << " (fitted in view " << a.second << ")";
     views.insert(a.second);
   }
   EXPECT_GE(views.size(), 2u) << "every part was fitted in one view: the case tests nothing";
@@ -204,7 +226,7 @@ TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_10_percent) {
 }
 
 TEST_F(MultiView, one_photo_twice_as_bright_doubles_its_exposure_and_keeps_the_albedos) {
-  makeCase(dir_->path() / "b", {1.0, 1.2, 1.5});
+  makeCase(dir_->path() / "b", {.exposure = {1.0, 1.2, 1.5}, .exactGeometry = true});
   const PipelineResult b = runPipeline(caseOptions(dir_->path() / "b"));
   ASSERT_EQ(b.exposure.size(), 3u);
   EXPECT_NEAR(b.exposure[1] / a_->exposure[1], 2.0, 2.0 * 0.02);
@@ -226,7 +248,9 @@ TEST_F(MultiView, one_photo_twice_as_bright_doubles_its_exposure_and_keeps_the_a
 TEST(FixedPartsAnchor, a_warm_light_and_the_albedo_level_come_from_the_given_walls) {
   io::TempDir dir("ps-anchor");
   const Vec3f warm(1.0f, 0.72f, 0.45f);
-  makeCase(dir.path() / "c", {1.0, 1.0, 1.0}, warm, {"wall_back", "wall_left", "wall_right"});
+  makeCase(dir.path() / "c", {.exposure = {1.0, 1.0, 1.0},
+                              .tint = warm,
+                              .fixed = {"wall_back", "wall_left", "wall_right"}});
   PipelineOptions o = caseOptions(dir.path() / "c");
   const PipelineResult r = runPipeline(o);
   const Scene scene = loadScene(dir.path() / "c/scene.json", {.loadPhotos = false});
@@ -271,7 +295,7 @@ TEST(FixedPartsAnchor, a_warm_light_and_the_albedo_level_come_from_the_given_wal
 // 14 % off (cabinet 1.138, wall_right 1.114, floor 1.10), with it within 2 %.
 TEST(GivenLights, the_fitted_albedos_are_the_true_ones) {
   io::TempDir dir("ps-given-lights");
-  makeCase(dir.path() / "d", {1.0, 1.0, 1.0}, Vec3f(1, 1, 1), {}, true);
+  makeCase(dir.path() / "d", {.exposure = {1.0, 1.0, 1.0}, .givenLights = true});
   const PipelineResult r = runPipeline(caseOptions(dir.path() / "d"));
   const Scene scene = loadScene(dir.path() / "d/scene.json", {.loadPhotos = false});
   const auto got = fittedAlbedos(dir.path() / "d/twin", 300, 0.3);
