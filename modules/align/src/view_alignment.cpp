@@ -1,5 +1,6 @@
 #include "photoscene/align/view_alignment.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
@@ -62,6 +63,41 @@ std::optional<PartObservation> observePart(const cv::Mat& partPhoto, const cv::M
   o.meanCosine = cosSum / pixels;
   o.medianColor = maskedMedian(partPhoto, fitMask);
   return o;
+}
+
+MaskConsistency maskConsistency(int part, const cv::Mat& maskA, const cv::Mat& positionA,
+                                const cv::Mat& maskB, const cv::Mat& positionB,
+                                const cv::Mat& partIdB, const Projector& projectB) {
+  MaskConsistency c;
+  const auto at = [](const cv::Mat& position, int x, int y) {
+    const cv::Vec3f p = position.at<cv::Vec3f>(y, x);
+    return Vec3d(p[0], p[1], p[2]);
+  };
+  constexpr int kNeighbour[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (int y = 0; y < maskA.rows; ++y)
+    for (int x = 0; x < maskA.cols; ++x) {
+      if (!maskA.at<uint8_t>(y, x)) continue;
+      ++c.pixels;
+      const Vec3d point = at(positionA, x, y);
+      Vec2d q;
+      if (!projectB(point, &q)) continue;
+      const int bx = static_cast<int>(std::lround(q.x())),
+                by = static_cast<int>(std::lround(q.y()));
+      // the nearest pixel and its four neighbours inside B's image and on the part
+      if (bx < 1 || by < 1 || bx >= partIdB.cols - 1 || by >= partIdB.rows - 1) continue;
+      if (partIdB.at<int>(by, bx) != part) continue;
+      const Vec3d surface = at(positionB, bx, by);
+      double spacing = 0;
+      bool interior = true;
+      for (const auto& d : kNeighbour) {
+        interior = interior && partIdB.at<int>(by + d[1], bx + d[0]) == part;
+        spacing = std::max(spacing, (at(positionB, bx + d[0], by + d[1]) - surface).norm());
+      }
+      if (!interior || (point - surface).norm() > 1.5 * spacing) continue;
+      ++c.seen;
+      c.inside += maskB.at<uint8_t>(by, bx) != 0;
+    }
+  return c;
 }
 
 }  // namespace ps::align

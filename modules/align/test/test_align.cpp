@@ -277,5 +277,71 @@ TEST(Align_ViewChoice, exposures_from_the_parts_two_views_share) {
   EXPECT_NEAR(twice[2] / got[2], 1.0, 1e-4);
 }
 
+// ---------------------------------------------------------------- masks across views
+
+/// A pinhole camera at `eye` looking down -z (image x along +x, y along -y), focal 50 px, 64 x 48.
+struct TopCamera {
+  Vec3d eye;
+  static constexpr int kWidth = 64, kHeight = 48;
+  static constexpr double kFocal = 50, kCx = 31.5, kCy = 23.5;
+  bool project(const Vec3d& p, Vec2d* pixel) const {
+    const double depth = eye.z() - p.z();
+    if (depth <= 0) return false;
+    *pixel =
+        Vec2d(kCx + kFocal * (p.x() - eye.x()) / depth, kCy - kFocal * (p.y() - eye.y()) / depth);
+    return true;
+  }
+  /// The G-buffer of the plane z = 0 with part 1 on the square |x|, |y| <= 0.4 and part 0 around.
+  void gbuffer(cv::Mat* position, cv::Mat* partId) const {
+    *position = cv::Mat(kHeight, kWidth, CV_32FC3);
+    *partId = cv::Mat(kHeight, kWidth, CV_32SC1);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const Vec3d p(eye.x() + (x - kCx) / kFocal * eye.z(),
+                      eye.y() - (y - kCy) / kFocal * eye.z(), 0);
+        position->at<cv::Vec3f>(y, x) = cv::Vec3f(float(p.x()), float(p.y()), 0.0f);
+        partId->at<int>(y, x) = std::abs(p.x()) <= 0.4 && std::abs(p.y()) <= 0.4 ? 1 : 0;
+      }
+  }
+};
+
+cv::Mat partMask(const cv::Mat& partId, int part) {
+  cv::Mat m = partId == part;
+  cv::erode(m, m, cv::Mat());  // the interior, as M_aln keeps it
+  return m;
+}
+
+TEST(Align_MaskConsistency, masks_of_the_same_surface_agree_and_a_shifted_one_does_not) {
+  const TopCamera a{Vec3d(0, 0, 2)}, b{Vec3d(0.3, -0.1, 1.8)};
+  cv::Mat posA, idsA, posB, idsB;
+  a.gbuffer(&posA, &idsA);
+  b.gbuffer(&posB, &idsB);
+  const cv::Mat maskA = partMask(idsA, 1), maskB = partMask(idsB, 1);
+  const Projector projectB = [&](const Vec3d& p, Vec2d* q) { return b.project(p, q); };
+  const MaskConsistency same = maskConsistency(1, maskA, posA, maskB, posB, idsB, projectB);
+  EXPECT_EQ(same.pixels, cv::countNonZero(maskA));
+  EXPECT_GT(same.seen, same.pixels / 2) << "B sees most of the square";
+  EXPECT_GE(same.share(), 0.97);
+  // the region matched to the part in B sits 8 pixels to the right of where the part is
+  cv::Mat shifted = cv::Mat::zeros(maskB.size(), CV_8UC1);
+  maskB(cv::Rect(0, 0, maskB.cols - 8, maskB.rows))
+      .copyTo(shifted(cv::Rect(8, 0, maskB.cols - 8, maskB.rows)));
+  const MaskConsistency off = maskConsistency(1, maskA, posA, shifted, posB, idsB, projectB);
+  EXPECT_EQ(off.seen, same.seen);
+  EXPECT_LT(off.share(), 0.8);
+  // a point another surface hides from B is not seen: a box-top (part 1 raised to z = 0.5 in B's
+  // G-buffer) over the square hides A's points, which B's positions no longer hold
+  cv::Mat raised = posB.clone();
+  for (int y = 0; y < raised.rows; ++y)
+    for (int x = 0; x < raised.cols; ++x)
+      if (idsB.at<int>(y, x) == 1) raised.at<cv::Vec3f>(y, x)[2] = 0.5f;
+  EXPECT_EQ(maskConsistency(1, maskA, posA, maskB, raised, idsB, projectB).seen, 0);
+  // no pixel of A's mask: nothing seen, the share is -1
+  const MaskConsistency none =
+      maskConsistency(1, cv::Mat::zeros(maskA.size(), CV_8UC1), posA, maskB, posB, idsB, projectB);
+  EXPECT_EQ(none.seen, 0);
+  EXPECT_DOUBLE_EQ(none.share(), -1.0);
+}
+
 }  // namespace
 }  // namespace ps::align

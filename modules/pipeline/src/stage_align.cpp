@@ -97,7 +97,8 @@ class ObserveStage : public Stage {
     const align::ViewChoice choice = align::chooseView(obs, ctx.exposure);
     for (size_t i = 0; i < obs.size(); ++i) {
       const align::PartObservation& o = obs[i];
-      p.seen.push_back({o.view, o.pixels, o.meanCosine, choice.agreement[i], choice.scores[i]});
+      p.seen.push_back({o.view, o.pixels, o.meanCosine, choice.agreement[i], choice.scores[i],
+                        maskConsistency(ctx, in, p, o.view, obs)});
       if (o.view == choice.view) {
         const float e = static_cast<float>(ctx.viewExposure(o.view));
         p.view = o.view;
@@ -112,6 +113,32 @@ class ObserveStage : public Stage {
   void finish(Context&, const Reads&) override { obs_.clear(); }
 
  private:
+  // The part's M_aln in view v against its M_aln in every other view that observes it, through
+  // the geometry (align::maskConsistency, pooled): -1 where no other view sees those points. A
+  // low share says a photo region was matched to another place in one of the views.
+  static double maskConsistency(const Context& ctx, const Reads& in, const PartWork& p, int v,
+                                const std::vector<align::PartObservation>& obs) {
+    align::MaskConsistency all;
+    for (const align::PartObservation& other : obs) {
+      if (other.view == v) continue;
+      const ViewWork& a = ctx.views[v];
+      const ViewWork& b = ctx.views[other.view];
+      const Camera& camera = in.camera(other.view);
+      const align::MaskConsistency c = align::maskConsistency(
+          p.id, a.fitMask.at(p.id), a.gbuffer.position, b.fitMask.at(p.id), b.gbuffer.position,
+          b.gbuffer.partId, [&](const Vec3d& x, Vec2d* q) { return camera.project(x, q); });
+      all.seen += c.seen;
+      all.inside += c.inside;
+      if (c.seen >= 50 && c.share() < 0.8)
+        spdlog::warn(
+            "observe: part {}: of the {} points of its aligned mask in view {} that view {} sees, "
+            "{:.0f} % are in its aligned mask there (the photo regions of one of the views may "
+            "not be the part's)",
+            p.name, c.seen, v, other.view, 100 * c.share());
+    }
+    return all.share();
+  }
+
   void observeAll(Context& ctx, const Reads& in) {
     obs_.assign(ctx.parts.size(), {});
     for (size_t u = 0; u < ctx.parts.size(); ++u) {

@@ -135,13 +135,16 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
       if (p.bounceFactor != Vec3f::Ones())  // stage_bounce.cpp
         m.fitExtra["bounce_factor"] = {p.bounceFactor[0], p.bounceFactor[1], p.bounceFactor[2]};
       if (ctx.views.size() > 1)  // how every view sees the part: the largest score is fit.view
-        for (const ViewSeen& s : p.seen)
-          m.fitExtra["views"].push_back({{"view", s.view},
-                                         {"pixels", s.pixels},
-                                         {"mean_cosine", s.meanCosine},
-                                         {"agreement", s.agreement},
-                                         {"score", s.score},
-                                         {"exposure", ctx.viewExposure(s.view)}});
+        for (const ViewSeen& s : p.seen) {
+          nlohmann::json v = {{"view", s.view},
+                              {"pixels", s.pixels},
+                              {"mean_cosine", s.meanCosine},
+                              {"agreement", s.agreement},
+                              {"score", s.score},
+                              {"exposure", ctx.viewExposure(s.view)}};
+          if (s.maskConsistency >= 0) v["mask_consistency"] = s.maskConsistency;
+          m.fitExtra["views"].push_back(v);
+        }
       if (!p.runnersUp.empty()) m.fitExtra["runners_up"] = p.runnersUp;
       for (const GraphVote& v : p.candidates)
         m.fitExtra["candidates"].push_back({{"graph", v.graph},

@@ -48,6 +48,11 @@ double number(const json& j, const char* key, double fallback) {
   return it != j.end() && it->is_number() ? it->get<double>() : fallback;
 }
 
+/// ", masks 0.97" where the view's mask consistency was recorded
+std::string maskText(const ViewsSummary::Seen& v) {
+  return v.maskConsistency >= 0 ? fmt::format(", masks {:.2f}", v.maskConsistency) : "";
+}
+
 }  // namespace
 
 ViewsSummary summarizeViews(const fs::path& outDir) {
@@ -82,6 +87,7 @@ ViewsSummary summarizeViews(const fs::path& outDir) {
           seen.meanCosine = number(v, "mean_cosine", 0);
           seen.agreement = number(v, "agreement", 1);
           seen.score = number(v, "score", 0);
+          seen.maskConsistency = number(v, "mask_consistency", -1);
           p.seen.push_back(seen);
         }
       if (p.view >= 0 && p.view < static_cast<int>(s.views.size())) ++s.views[p.view].parts;
@@ -107,7 +113,7 @@ std::string viewsText(const ViewsSummary& s) {
       for (const auto& v : p.seen)
         o << fmt::format(" view {}{} {:.0f} = {} x {:.2f} x {:.2f}", v.view,
                          v.view == p.view ? "*" : "", v.score, v.pixels, v.meanCosine, v.agreement)
-          << (&v == &p.seen.back() ? ")" : ";");
+          << maskText(v) << (&v == &p.seen.back() ? ")" : ";");
     }
     o << "\n";
   }
@@ -128,7 +134,9 @@ std::string viewsHtml(const ViewsSummary& s) {
   if (scored) {
     h << "<p class=\"note\">Per part, every view that sees it: score = M_aln pixels &times; mean "
          "|cos| to the camera &times; appearance agreement with the other views (after their "
-         "exposures); the highest score is the view it was fitted in (bold).</p>\n"
+         "exposures); the highest score is the view it was fitted in (bold). \"masks\": of the "
+         "points of the part's aligned mask in that view that the other views see, the share in "
+         "their aligned masks (a low share: a photo region matched to another place).</p>\n"
          "<table><thead><tr><th>part</th><th>view</th><th>scores (view: pixels &times; cos "
          "&times; agreement = score)</th></tr></thead><tbody>\n";
     for (const auto& p : s.parts) {
@@ -136,7 +144,8 @@ std::string viewsHtml(const ViewsSummary& s) {
       h << "<tr><td>" << escape(p.part) << "</td><td>" << p.view << "</td><td>";
       for (const auto& v : p.seen) {
         const std::string cell = fmt::format("{}: {} &times; {:.2f} &times; {:.2f} = {:.0f}",
-                                             v.view, v.pixels, v.meanCosine, v.agreement, v.score);
+                                             v.view, v.pixels, v.meanCosine, v.agreement, v.score) +
+                                 maskText(v);
         h << (v.view == p.view ? "<b>" + cell + "</b>" : cell)
           << (&v == &p.seen.back() ? "" : "; ");
       }

@@ -5,6 +5,7 @@
 //   gb.coverage); cv::Mat mAln = a.fitMask.at(part);
 #pragma once
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <vector>
@@ -49,5 +50,35 @@ ViewAlignment alignView(const cv::Mat& photo, const cv::Mat& labels,
 std::optional<PartObservation> observePart(const cv::Mat& partPhoto, const cv::Mat& fitMask,
                                            const cv::Mat& normalShading, const cv::Mat& position,
                                            const Vec3d& cameraPosition);
+
+/// How a part's M_aln in one view (A) and in another (B) agree through the geometry (issue 19):
+/// each pixel of A's M_aln is carried by its surface point (A's G-buffer position) into B. B sees
+/// the point where it projects onto the part's interior there (the nearest pixel and its four
+/// neighbours show the part) and B's surface point at that pixel is the same point (within 1.5 x
+/// the largest distance from it to its neighbours' points: not another face of the part hiding
+/// it). Of the points B sees, `inside` land in B's M_aln. A photo region matched to the wrong
+/// place in one view, or a mask in the wrong frame, shows as a low share against the other views;
+/// where the regions are the part's, Eq. (1)'s box warp keeps it near 1 (the coarse geometry's
+/// error moves M_geo and M_aln together).
+struct MaskConsistency {
+  int pixels = 0;  ///< A's M_aln pixels
+  int seen = 0;    ///< of them, those B sees on the part's interior
+  int inside = 0;  ///< of those, the ones in B's M_aln
+  /// inside / seen; -1 where B sees none of them
+  double share() const { return seen > 0 ? static_cast<double>(inside) / seen : -1.0; }
+};
+
+/// Projects a world point into view B: false where it falls behind the camera; else its pixel
+/// (x, y), pixel centres at integers.
+using Projector = std::function<bool(const Vec3d& world, Vec2d* pixel)>;
+
+/// MaskConsistency of `part` from view A to view B.
+/// @param maskA, maskB         M_aln in A and in B (CV_8UC1, each in its view's render frame)
+/// @param positionA, positionB CV_32FC3 world positions (the G-buffers of A and B)
+/// @param partIdB              CV_32SC1 part ids of B's G-buffer
+/// @param projectB             B's camera projection
+MaskConsistency maskConsistency(int part, const cv::Mat& maskA, const cv::Mat& positionA,
+                                const cv::Mat& maskB, const cv::Mat& positionB,
+                                const cv::Mat& partIdB, const Projector& projectB);
 
 }  // namespace ps::align

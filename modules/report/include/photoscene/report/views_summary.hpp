@@ -26,6 +26,9 @@ struct ViewsSummary {
     int view = 0;
     int pixels = 0;
     double meanCosine = 0, agreement = 1, score = 0;
+    /// of its M_aln's points the other views see, the share in their M_aln (materials
+    /// fit.views[].mask_consistency); -1: not recorded or not seen by another view
+    double maskConsistency = -1;
   };
   struct Part {
     std::string part;
