@@ -78,8 +78,9 @@ struct ViewSeen {
   double meanCosine = 0;  ///< mean |cos| between the surface normal and the view direction
   double agreement = 1;   ///< appearance agreement with the other views (align::chooseView)
   double score = 0;       ///< pixels x mean cos x agreement: the largest is the part's view
-  /// of the points of the part's M_aln in this view that its other views see on the part, the
-  /// share in their M_aln (align::maskConsistency, pooled over the other views); -1: none seen
+  /// of the points of the part's M_aln in its other views that this view sees on the part, the
+  /// share in this view's M_aln (align::maskConsistency, pooled over the other views): how much
+  /// of the part its photo region covers; -1: none seen
   double maskConsistency = -1;
 };
 

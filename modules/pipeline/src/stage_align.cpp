@@ -113,28 +113,29 @@ class ObserveStage : public Stage {
   void finish(Context&, const Reads&) override { obs_.clear(); }
 
  private:
-  // The part's M_aln in view v against its M_aln in every other view that observes it, through
-  // the geometry (align::maskConsistency, pooled): -1 where no other view sees those points. A
-  // low share says a photo region was matched to another place in one of the views.
+  // How much of the part view v's M_aln covers, as the other views' M_aln say where the part is:
+  // their points that v sees on the part, the share in v's M_aln (align::maskConsistency from
+  // each other view to v, pooled); -1 where v sees none of them. A low share says v's photo
+  // region misses the part (or another view's holds more than the part).
   static double maskConsistency(const Context& ctx, const Reads& in, const PartWork& p, int v,
                                 const std::vector<align::PartObservation>& obs) {
     align::MaskConsistency all;
+    const ViewWork& to = ctx.views[v];
+    const Camera& camera = in.camera(v);
     for (const align::PartObservation& other : obs) {
       if (other.view == v) continue;
-      const ViewWork& a = ctx.views[v];
-      const ViewWork& b = ctx.views[other.view];
-      const Camera& camera = in.camera(other.view);
-      const align::MaskConsistency c = align::maskConsistency(
-          p.id, a.fitMask.at(p.id), a.gbuffer.position, b.fitMask.at(p.id), b.gbuffer.position,
-          b.gbuffer.partId, [&](const Vec3d& x, Vec2d* q) { return camera.project(x, q); });
+      const ViewWork& from = ctx.views[other.view];
+      const align::MaskConsistency c =
+          align::maskConsistency(p.id, from.fitMask.at(p.id), from.gbuffer.position,
+                                 to.fitMask.at(p.id), to.gbuffer.position, to.gbuffer.partId,
+                                 [&](const Vec3d& x, Vec2d* q) { return camera.project(x, q); });
       all.seen += c.seen;
       all.inside += c.inside;
       if (c.seen >= 50 && c.share() < 0.8)
         spdlog::warn(
             "observe: part {}: of the {} points of its aligned mask in view {} that view {} sees, "
-            "{:.0f} % are in its aligned mask there (the photo regions of one of the views may "
-            "not be the part's)",
-            p.name, c.seen, v, other.view, 100 * c.share());
+            "{:.0f} % are in its aligned mask there (view {}'s photo region may miss the part)",
+            p.name, c.seen, other.view, v, 100 * c.share(), v);
     }
     return all.share();
   }

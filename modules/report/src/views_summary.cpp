@@ -135,8 +135,8 @@ std::string viewsHtml(const ViewsSummary& s) {
     h << "<p class=\"note\">Per part, every view that sees it: score = M_aln pixels &times; mean "
          "|cos| to the camera &times; appearance agreement with the other views (after their "
          "exposures); the highest score is the view it was fitted in (bold). \"masks\": of the "
-         "points of the part's aligned mask in that view that the other views see, the share in "
-         "their aligned masks (a low share: a photo region matched to another place).</p>\n"
+         "points of the part's aligned masks in the other views that this view sees on the part, "
+         "the share in its aligned mask (a low share: its photo region misses the part).</p>\n"
          "<table><thead><tr><th>part</th><th>view</th><th>scores (view: pixels &times; cos "
          "&times; agreement = score)</th></tr></thead><tbody>\n";
     for (const auto& p : s.parts) {

@@ -26,8 +26,8 @@ struct ViewsSummary {
     int view = 0;
     int pixels = 0;
     double meanCosine = 0, agreement = 1, score = 0;
-    /// of its M_aln's points the other views see, the share in their M_aln (materials
-    /// fit.views[].mask_consistency); -1: not recorded or not seen by another view
+    /// of the other views' M_aln points this view sees on the part, the share in its M_aln
+    /// (materials fit.views[].mask_consistency); -1: not recorded or none seen
     double maskConsistency = -1;
   };
   struct Part {
