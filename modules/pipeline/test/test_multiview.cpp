@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <set>
 
@@ -42,6 +43,25 @@ Vec3f trueAlbedo(int id) {
       {0.70f, 0.40f, 0.30f}, {0.35f, 0.50f, 0.40f}, {0.25f, 0.30f, 0.50f}, {0.45f, 0.20f, 0.20f},
       {0.65f, 0.55f, 0.35f}, {0.30f, 0.30f, 0.30f}, {0.75f, 0.65f, 0.55f}};
   return palette[id % 11];
+}
+
+/// A label image as a segmentation would give it: 1000 + part id wherever the G-buffer shows a
+/// part, 0 elsewhere (CV_32SC1), and each label's part name.
+struct Labels {
+  cv::Mat image;
+  std::map<int, std::string> parts;
+};
+
+Labels labelsOf(const GBuffer& gb, const Scene& scene) {
+  Labels l;
+  l.image = cv::Mat(gb.partId.size(), CV_32SC1, cv::Scalar(0));
+  for (int y = 0; y < l.image.rows; ++y)
+    for (int x = 0; x < l.image.cols; ++x)
+      if (const int p = gb.partId.at<int>(y, x); p >= 0) {
+        l.image.at<int>(y, x) = 1000 + p;
+        l.parts[1000 + p] = scene.parts[p].name;
+      }
+  return l;
 }
 
 /// What the synthetic case varies.
@@ -84,16 +104,12 @@ void makeCase(const fs::path& dir, const CaseSpec& spec) {
     cv::Mat photo = tracer.render(cam, ro) * spec.exposure[v];
     const std::string name = "view" + std::to_string(v);
     io::writeImage(dir / "photos" / (name + ".exr"), photo);
-    const GBuffer gb = renderGBuffer(tracer, cam);
-    cv::Mat labels(gb.partId.size(), CV_16UC1, cv::Scalar(0));
+    const Labels labels = labelsOf(renderGBuffer(tracer, cam), twin.scene);
+    cv::Mat png;
+    labels.image.convertTo(png, CV_16UC1);
+    io::writeRawImage(dir / "segments" / (name + ".png"), png);
     nlohmann::json pinned = nlohmann::json::object();
-    for (int y = 0; y < labels.rows; ++y)
-      for (int x = 0; x < labels.cols; ++x)
-        if (const int p = gb.partId.at<int>(y, x); p >= 0) {
-          labels.at<uint16_t>(y, x) = static_cast<uint16_t>(1000 + p);
-          pinned[std::to_string(1000 + p)] = twin.scene.parts[p].name;
-        }
-    io::writeRawImage(dir / "segments" / (name + ".png"), labels);
+    for (const auto& [label, part] : labels.parts) pinned[std::to_string(label)] = part;
     views.push_back({{"image", "photos/" + name + ".exr"},
                      {"color_space", "linear"},
                      {"camera", io::cameraToJson(cams[v])},
@@ -348,19 +364,14 @@ TEST(MultiViewMasks, a_parts_aligned_masks_agree_across_views_on_the_coarse_geom
   for (const io::CameraDesc& d : cameras()) {
     cams.push_back(Camera::fromDesc(d));
     // labels of the exact geometry, each region pinned to its part of the coarse scene
-    const GBuffer truth = renderGBuffer(exactTracer, cams.back());
-    cv::Mat labels(truth.partId.size(), CV_32SC1, cv::Scalar(0));
+    const Labels labels = labelsOf(renderGBuffer(exactTracer, cams.back()), exact.scene);
     std::map<int, int> pinned;
-    for (int y = 0; y < labels.rows; ++y)
-      for (int x = 0; x < labels.cols; ++x)
-        if (const int p = truth.partId.at<int>(y, x); p >= 0) {
-          labels.at<int>(y, x) = 1000 + p;
-          pinned[1000 + p] = coarse.partId(exact.scene.parts[p].name);
-        }
+    for (const auto& [label, part] : labels.parts) pinned[label] = coarse.partId(part);
     gbuffers.push_back(renderGBuffer(coarseTracer, cams.back()));
-    const cv::Mat photo = cv::Mat::zeros(labels.size(), CV_32FC3);  // read only without labels
-    aligned.push_back(
-        align::alignView(photo, labels, pinned, gbuffers.back().partId, gbuffers.back().coverage));
+    const cv::Mat photo =
+        cv::Mat::zeros(labels.image.size(), CV_32FC3);  // read only without labels
+    aligned.push_back(align::alignView(photo, labels.image, pinned, gbuffers.back().partId,
+                                       gbuffers.back().coverage));
   }
   int pairs = 0;
   for (size_t a = 0; a < cams.size(); ++a)
