@@ -90,18 +90,21 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, int max
 namespace {
 
 constexpr double kMinFactor = 1e-3, kMaxFactor = 1e3;  ///< a region's reflectance factor
+/// the given light's share of the photos' energy from which it sets the factors' scale
+constexpr double kGivenScaleShare = 0.05;
 
 /// Usable samples of one view: photo values and per-light values, 3 channels each.
 struct Samples {
   std::vector<float> photo;                 // 3 per sample
   std::vector<std::vector<float>> light;    // per light, 3 per sample
+  std::vector<float> given;                 // 3 per sample: ViewLightData::given (0: none)
   std::vector<int> region;                  // per sample: ViewLightData::regions (-1: none)
   int count = 0;
 };
 
 /// Usable pixels of one view where one light is seen directly: photo and that light's values.
 struct DirectSamples {
-  std::vector<float> photo, light;  // 3 per sample
+  std::vector<float> photo, light, given;  // 3 per sample
   int count = 0;
 };
 
@@ -113,7 +116,15 @@ bool usablePixel(const ViewLightData& v, int y, int x, double saturation) {
     const cv::Vec3f& q = l.at<cv::Vec3f>(y, x);
     for (int c = 0; c < 3; ++c) ok &= std::isfinite(q[c]);
   }
+  if (!v.given.empty()) {
+    const cv::Vec3f& g = v.given.at<cv::Vec3f>(y, x);
+    for (int c = 0; c < 3; ++c) ok &= std::isfinite(g[c]);
+  }
   return ok;
+}
+
+cv::Vec3f givenAt(const ViewLightData& v, cv::Point q) {
+  return v.given.empty() ? cv::Vec3f(0, 0, 0) : v.given.at<cv::Vec3f>(q);
 }
 
 /// Per light, the usable pixels of ViewLightData::direct (every one: they are few).
@@ -130,9 +141,11 @@ std::vector<DirectSamples> gatherDirect(const ViewLightData& v, int lights, cons
       for (int x = 0; x < m.cols; ++x) {
         if (!m.at<uint8_t>(y, x) || !usablePixel(v, y, x, o.saturation)) continue;
         const cv::Vec3f &p = v.photo.at<cv::Vec3f>(y, x), &l = v.perLight[k].at<cv::Vec3f>(y, x);
+        const cv::Vec3f g = givenAt(v, {x, y});
         for (int c = 0; c < 3; ++c) {
           out[k].photo.push_back(p[c]);
           out[k].light.push_back(l[c]);
+          out[k].given.push_back(g[c]);
         }
         ++out[k].count;
       }
@@ -146,6 +159,7 @@ Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
   PS_CheckEQ(static_cast<int>(v.perLight.size()), lights, "lighting: every view needs one image per light");
   for (const cv::Mat& l : v.perLight) checkImage(l, CV_32FC3, v.photo.size(), "lighting: per-light render");
   if (!v.regions.empty()) checkImage(v.regions, CV_32SC1, v.photo.size(), "lighting: regions");
+  if (!v.given.empty()) checkImage(v.given, CV_32FC3, v.photo.size(), "lighting: given light");
   std::vector<cv::Point> usable;
   for (int y = 0; y < v.photo.rows; ++y) {
     const uint8_t* m = v.mask.ptr<uint8_t>(y);
@@ -158,8 +172,11 @@ Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
   s.light.resize(lights);
   for (size_t i = 0; i < usable.size(); i += stride) {
     const cv::Point q = usable[i];
-    const cv::Vec3f& p = v.photo.at<cv::Vec3f>(q);
-    for (int c = 0; c < 3; ++c) s.photo.push_back(p[c]);
+    const cv::Vec3f &p = v.photo.at<cv::Vec3f>(q), g = givenAt(v, q);
+    for (int c = 0; c < 3; ++c) {
+      s.photo.push_back(p[c]);
+      s.given.push_back(g[c]);
+    }
     s.region.push_back(v.regions.empty() ? -1 : std::max(-1, v.regions.at<int>(q)));
     for (int k = 0; k < lights; ++k) {
       const cv::Vec3f& l = v.perLight[k].at<cv::Vec3f>(q);
@@ -226,9 +243,17 @@ LightSolution solveSamples(const std::vector<Samples>& data,
     for (int r : s.region)
       if (r >= 0) regionWeight[r] += 1;
   auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
-  // the active lights' sum at sample i, channel c (before exposure and factor)
+  // light of given radiance fixes the scale per channel that the factors' gauge sets otherwise
+  double givenSum = 0, photoSum = 0;
+  for (const Samples& s : data) {
+    for (float g : s.given) givenSum += g;
+    for (float p : s.photo) photoSum += p;
+  }
+  const bool gauge = !(givenSum >= kGivenScaleShare * photoSum && givenSum > 0);
+  // the given light and the active lights' sum at sample i, channel c (before exposure and
+  // factor)
   auto lit = [&](const Samples& s, int i, int c) {
-    double m = 0;
+    double m = s.given[3 * i + c];
     for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
     return m;
   };
@@ -277,7 +302,7 @@ LightSolution solveSamples(const std::vector<Samples>& data,
             const DirectSamples& d = direct[v][k];
             for (int i = 0; i < d.count; ++i) {
               const double l = sol.exposure[v] * d.light[3 * i + c];
-              pl += l * d.photo[3 * i + c];
+              pl += l * (d.photo[3 * i + c] - sol.exposure[v] * d.given[3 * i + c]);
               ll += l * l;
             }
           }
@@ -293,7 +318,7 @@ LightSolution solveSamples(const std::vector<Samples>& data,
           for (int i = 0; i < s.count; ++i, ++row) {
             const double ef = sol.exposure[v] * factor(s.region[i], c);
             for (int j = 0; j < n; ++j) A(row, j) = ef * s.light[free[j]][3 * i + c];
-            double pinnedPart = 0;
+            double pinnedPart = s.given[3 * i + c];
             for (int k : active)
               if (sol.pinned[k]) pinnedPart += sol.intensity[k][c] * s.light[k][3 * i + c];
             b[row] = s.photo[3 * i + c] - ef * pinnedPart;
@@ -317,7 +342,8 @@ LightSolution solveSamples(const std::vector<Samples>& data,
         }
       }
       // the regions' factors for fixed lights and exposures, then the gauge: per channel their
-      // pixel-weighted log-mean is 0 (light and reflectance trade a scale per channel)
+      // pixel-weighted log-mean is 0 (light and reflectance trade a scale per channel), unless
+      // light of given radiance sets that scale
       if (regions > 0) {
         std::vector<Vec3d> pm(regions, Vec3d::Zero()), mm(regions, Vec3d::Zero());
         for (size_t v = 0; v < data.size(); ++v) {
@@ -341,7 +367,7 @@ LightSolution solveSamples(const std::vector<Samples>& data,
           logMean += regionWeight[r] * sol.regionFactor[r].array().log().matrix();
           weight += regionWeight[r];
         }
-        if (weight > 0) {
+        if (gauge && weight > 0) {
           const Vec3d g = (logMean / weight).array().exp().matrix();
           for (Vec3d& f : sol.regionFactor) f = f.cwiseQuotient(g);
         }
@@ -360,6 +386,9 @@ LightSolution solveSamples(const std::vector<Samples>& data,
           for (int c = 0; c < 3; ++c)
             energy[k] += factor(s.region[i], c) * sol.intensity[k][c] * s.light[k][3 * i + c];
     for (int k : active) energyAll += energy[k];
+    for (const Samples& s : data)  // the given light's share counts in the whole
+      for (int i = 0; i < s.count; ++i)
+        for (int c = 0; c < 3; ++c) energyAll += factor(s.region[i], c) * s.given[3 * i + c];
     std::vector<int> keep;
     for (int k : active) {
       const bool zero = sol.intensity[k].maxCoeff() <= 0;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core.hpp"
@@ -271,6 +272,64 @@ TEST(Lighting_Solve, a_window_seen_in_one_view_only_does_not_drift_with_the_expo
   EXPECT_LT(s.exposure[1], 2.0 * exposure1) << s.summary();
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(s.intensity[0][c] * s.exposure[1] / (truth * exposure1), 1.0, 0.01) << s.summary();
+}
+
+// Two lamps of given radiance and a free environment light, two views (the second one 1.6 x
+// brighter), three parts whose reflectance the renders guess wrong: the given lamps' light is part
+// of the model, scaled by the view's exposure and the part's factor. The exposure, the free light
+// and the factors come out absolute (the given radiance sets the scale the gauge sets otherwise);
+// taking the lamps' light off the photo instead left the exposure 3.6 x off on the blender-room
+// example.
+TEST(Lighting_Solve, light_of_given_radiance_is_scaled_by_exposure_and_factors_like_the_rest) {
+  Rng rng(12);
+  const cv::Size size(90, 60);
+  const Vec3d lamp(30, 28, 24), sky(0.6, 0.7, 0.9);
+  const std::vector<Vec3d> wrong = {{0.5, 0.45, 0.4}, {1, 1, 1}, {1.8, 1.9, 2.0}};
+  const std::vector<double> exposure = {1.0, 1.6};
+  std::vector<ViewLightData> views(2);
+  for (int v = 0; v < 2; ++v) {
+    ViewLightData& d = views[v];
+    d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+    d.regions = cv::Mat(size, CV_32SC1);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) d.regions.at<int>(y, x) = x / 30;
+    const cv::Mat lampUnit = smoothField(size, rng, 25), skyUnit = smoothField(size, rng, 40) * 8.0;
+    cv::multiply(lampUnit, cv::Scalar(lamp.x(), lamp.y(), lamp.z()), d.given);
+    d.perLight = {skyUnit};
+    d.photo = cv::Mat(size, CV_32FC3);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const double light =
+              d.given.at<cv::Vec3f>(y, x)[c] + sky[c] * skyUnit.at<cv::Vec3f>(y, x)[c];
+          d.photo.at<cv::Vec3f>(y, x)[c] =
+              float(exposure[v] * wrong[x / 30][c] * light * (1 + 0.005 * rng.normal()));
+        }
+  }
+  SolveOptions o;
+  o.saturation = std::numeric_limits<double>::infinity();  // a float photo: every pixel counts
+  const LightSolution s = solveLights(views, o);
+  EXPECT_NEAR(s.exposure[1] / exposure[1], 1.0, 0.02) << s.summary();
+  ASSERT_EQ(s.regionFactor.size(), 3u) << s.summary();
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.intensity[0][c] / sky[c], 1.0, 0.03) << s.summary();
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(s.regionFactor[r][c] / wrong[r][c], 1.0, 0.02) << "region " << r << " c " << c;
+  }
+  EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
+
+  // a given light that does not reach the photo (zeros) leaves the gauge as without it
+  for (ViewLightData& d : views) d.given = cv::Mat::zeros(size, CV_32FC3);
+  const LightSolution u = solveLights(views, o);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(std::cbrt(u.regionFactor[0][c] * u.regionFactor[1][c] * u.regionFactor[2][c]), 1.0,
+                1e-6);
+  // a given light with a non-finite pixel: that pixel is left out, nothing non-finite comes back
+  views[0].given = cv::Mat(size, CV_32FC3, cv::Scalar::all(0.01));
+  views[0].given.at<cv::Vec3f>(3, 3) = cv::Vec3f(NAN, 0, INFINITY);
+  const LightSolution w = solveLights(views, o);
+  EXPECT_TRUE(std::isfinite(w.residualRms) && std::isfinite(w.exposure[1])) << w.summary();
+  for (const Vec3d& f : w.regionFactor) EXPECT_TRUE(f.allFinite());
 }
 
 TEST(Lighting_Solve, refuses_empty_input) {

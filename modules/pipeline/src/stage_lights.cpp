@@ -42,8 +42,9 @@ class LightsStage : public Stage {
     // exposures known before the solve; 4: round 0 anchored on the parts of given material; 5: a
     // light the photos show (through a window, or its emitter unsaturated) pinned to those
     // pixels, and a free reflectance factor per part (lighting/solve.hpp); 6: a float photo's
-    // bright pixels count with given emitters too (only an integer-coded photo clips)
-    decl.version = 6;
+    // bright pixels count with given emitters too (only an integer-coded photo clips); 7:
+    // the given emitters' light a term of the model (lighting/solve.hpp), not taken off the photo
+    decl.version = 7;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -82,7 +83,7 @@ class LightsStage : public Stage {
       d.mask = ctx.views[v].lightMask.clone();
       if (const double clip = in.photoClip(v, 1.0); std::isfinite(clip)) {
         // an integer-coded photo clips (at 1): its saturated pixels (any channel) say nothing,
-        // nor what is left of them after the given emitters are taken off below; a float photo
+        // nor do they with the given emitters' light in the model (below); a float photo
         // (EXR, HDR) does not clip, and all of it counts at any exposure
         std::vector<cv::Mat> ch;
         cv::split(photo, ch);
@@ -96,7 +97,9 @@ class LightsStage : public Stage {
           fixed += perLight[k].mul(cv::Scalar((*r)[0], (*r)[1], (*r)[2]));
         }
       }
-      if (cv::countNonZero(fixed.reshape(1)) > 0) d.photo -= fixed;  // the given emitters' light
+      // the given emitters' light: a known term of the model, which the view's exposure and
+      // each part's free factor scale like the rest (not taken off the photo)
+      if (cv::countNonZero(fixed.reshape(1)) > 0) d.given = fixed;
       // where each free light is seen itself (its emitting parts, the windows that open onto
       // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
       // mask, whose pixels it does not replace

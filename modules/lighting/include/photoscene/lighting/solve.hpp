@@ -30,6 +30,11 @@
 // brightest part look weak). Lights, exposures and factors are solved alternately; per channel
 // the factors' pixel-weighted geometric mean is 1 (a common scale of light and reflectance per
 // channel is not observable: it stays as the guesses set it).
+//
+// Emitters of given radiance are a known term G_v of the model, not a subtraction from the photo:
+// P_v = e_v f_r (.) (G_v + sum_k x_k (.) I_{v,k}). Taking G_v off the photo assumed exposure 1 and
+// the guessed reflectances: on the blender-room example with both lamps given and a second view,
+// the second view's exposure came out 3.6 (truth 1.0; residual 85 % of the photo's RMS).
 #pragma once
 
 #include <Eigen/Core>
@@ -61,6 +66,13 @@ struct ViewLightData {
   /// read from how the shading varies within each region, not from how bright the guesses are
   /// against each other.
   cv::Mat regions;
+  /// Optional: CV_32FC3, the light of the emitters whose radiance is given (not solved), at that
+  /// radiance, rendered with the same reflectances as `perLight`. It is part of the model, not
+  /// taken off the photo: P_v = e_v f_r (.) (G_v + sum_k x_k (.) I_{v,k}), so the view's exposure
+  /// and a region's factor scale it as they scale the solved lights. A light of known radiance
+  /// also fixes the scale per channel that the factors' gauge otherwise sets (LightSolution::
+  /// regionFactor).
+  cv::Mat given;
 };
 
 struct SolveOptions {
@@ -85,7 +97,9 @@ struct LightSolution {
   std::vector<int> directPixels; ///< per light: usable pixels where it is seen directly
   std::vector<bool> pinned;      ///< per light: its intensity came from those pixels alone
   /// per region (ViewLightData::regions): the factor on its guessed reflectance, RGB; per
-  /// channel the pixel-weighted geometric mean over the regions is 1 (the gauge)
+  /// channel the pixel-weighted geometric mean over the regions is 1 (the gauge), unless given
+  /// light (ViewLightData::given) makes up at least 5 % of the photos' energy: then its known
+  /// radiance sets the scale and the factors are free
   std::vector<Vec3d> regionFactor;
   double residualRms = 0;        ///< RMS of the model minus the photo over the samples
   double photoRms = 0;           ///< RMS of the photo over the same samples (for scale)
