@@ -90,8 +90,9 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, int max
 namespace {
 
 constexpr double kMinFactor = 1e-3, kMaxFactor = 1e3;  ///< a region's reflectance factor
-/// the given light's share of the photos' energy from which it sets the factors' scale
-constexpr double kGivenScaleShare = 0.05;
+/// the share of the photos' energy from which light of known radiance (given, or pinned to the
+/// pixels that show it) sets the factors' scale
+constexpr double kKnownLightShare = 0.05;
 
 /// Usable samples of one view: photo values and per-light values, 3 channels each.
 struct Samples {
@@ -243,13 +244,27 @@ LightSolution solveSamples(const std::vector<Samples>& data,
     for (int r : s.region)
       if (r >= 0) regionWeight[r] += 1;
   auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
-  // light of given radiance fixes the scale per channel that the factors' gauge sets otherwise
+  // what sets the common scale of light and reflectance (LightSolution::regionFactor)
   double givenSum = 0, photoSum = 0;
   for (const Samples& s : data) {
     for (float g : s.given) givenSum += g;
     for (float p : s.photo) photoSum += p;
   }
-  const bool gauge = !(givenSum >= kGivenScaleShare * photoSum && givenSum > 0);
+  const bool givenScale = givenSum > 0 && givenSum >= kKnownLightShare * photoSum;
+  // ... of the light on the regions (not counting the pinned light's own pixels)
+  auto pinnedScale = [&] {
+    double pinned = 0, photo = 0;
+    for (const Samples& s : data)
+      for (int i = 0; i < s.count; ++i) {
+        if (s.region[i] < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          photo += s.photo[3 * i + c];
+          for (int k : active)
+            if (sol.pinned[k]) pinned += sol.intensity[k][c] * s.light[k][3 * i + c];
+        }
+      }
+    return pinned > 0 && pinned >= kKnownLightShare * photo;
+  };
   // the given light and the active lights' sum at sample i, channel c (before exposure and
   // factor)
   auto lit = [&](const Samples& s, int i, int c) {
@@ -341,9 +356,9 @@ LightSolution solveSamples(const std::vector<Samples>& data,
           sol.exposure[v] = mm > 0 ? pm / mm : 1.0;
         }
       }
-      // the regions' factors for fixed lights and exposures, then the gauge: per channel their
-      // pixel-weighted log-mean is 0 (light and reflectance trade a scale per channel), unless
-      // light of given radiance sets that scale
+      // the regions' factors for fixed lights and exposures, then the gauge: their pixel-weighted
+      // log-mean is 0 (light and reflectance trade a scale per channel), unless light of known
+      // radiance sets that scale
       if (regions > 0) {
         std::vector<Vec3d> pm(regions, Vec3d::Zero()), mm(regions, Vec3d::Zero());
         for (size_t v = 0; v < data.size(); ++v) {
@@ -367,8 +382,11 @@ LightSolution solveSamples(const std::vector<Samples>& data,
           logMean += regionWeight[r] * sol.regionFactor[r].array().log().matrix();
           weight += regionWeight[r];
         }
-        if (gauge && weight > 0) {
-          const Vec3d g = (logMean / weight).array().exp().matrix();
+        // light of given radiance sets every channel's scale: no gauge; a pinned light sets the
+        // colour, the guesses the level (one scale over the channels); else one scale per channel
+        if (weight > 0 && !givenScale) {
+          Vec3d g = (logMean / weight).array().exp().matrix();
+          if (pinnedScale()) g.setConstant(std::cbrt(g.prod()));
           for (Vec3d& f : sol.regionFactor) f = f.cwiseQuotient(g);
         }
       }

@@ -240,6 +240,83 @@ TEST(Lighting_Solve, free_factors_per_part_recover_the_light_ratio_from_shading_
       << u.summary();
 }
 
+// A warm lamp and a bluish sky seen through a window, three parts whose guessed reflectance
+// carries a warm cast (as photo medians do under a warm light): the window's pixels measure the
+// sky's colour, so the lamp's colour and the parts' colours come out right; the one scale left
+// free stays as the guesses set it. With one scale per channel the guesses' cast stayed in the
+// parts and the lamp came out blue (the blender-room example's lamps).
+TEST(Lighting_Solve, a_pinned_light_sets_the_colour_of_light_and_reflectance) {
+  Rng rng(41);
+  const cv::Size size(90, 60);
+  const cv::Rect window(0, 0, 90, 12);
+  const std::vector<Vec3d> truth = {{30, 24, 16}, {0.6, 0.75, 1.0}};  // lamp, sky
+  // a warm cast, at the right level: the geometric mean over parts and channels is 1
+  std::vector<Vec3d> wrong = {{0.8, 0.55, 0.35}, {1.4, 1.0, 0.7}, {1.1, 0.8, 0.5}};
+  double logLevel = 0;
+  for (const Vec3d& w : wrong) logLevel += w.array().log().sum() / 9;
+  for (Vec3d& w : wrong) w /= std::exp(logLevel);
+  ViewLightData d;
+  d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+  d.regions = cv::Mat(size, CV_32SC1, cv::Scalar(-1));
+  for (int y = window.height; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) d.regions.at<int>(y, x) = x / 30;
+  d.direct = {cv::Mat(), cv::Mat::zeros(size, CV_8UC1)};
+  d.direct[1](window).setTo(255);
+  // the lamp bright at the left, the sky's light at the right; the sky itself in the window
+  for (int k = 0; k < 2; ++k) {
+    cv::Mat m(size, CV_32FC3);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const float t = float(k == 0 ? x : size.width - 1 - x) / size.width;
+        m.at<cv::Vec3f>(y, x) = cv::Vec3f::all((k == 0 ? 0.002f : 0.08f) / (0.2f + 2.0f * t * t) *
+                                               (1 + 0.1f * std::sin(0.2f * y)));
+      }
+    m(window).setTo(k == 0 ? cv::Scalar::all(0) : cv::Scalar::all(0.5));
+    d.perLight.push_back(m);
+  }
+  d.photo = cv::Mat::zeros(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const int r = d.regions.at<int>(y, x);
+      for (int c = 0; c < 3; ++c) {
+        double v = 0;
+        for (int k = 0; k < 2; ++k) v += truth[k][c] * d.perLight[k].at<cv::Vec3f>(y, x)[c];
+        d.photo.at<cv::Vec3f>(y, x)[c] =
+            float((r < 0 ? 1.0 : wrong[r][c]) * v * (1 + 0.005 * rng.normal()));
+      }
+    }
+  const LightSolution s = solveLights({d});
+  ASSERT_TRUE(s.pinned[1]) << s.summary();
+  ASSERT_EQ(s.regionFactor.size(), 3u) << s.summary();
+  auto chroma = [](const Vec3d& x) { return Vec3d(x / x.sum()); };
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.intensity[1][c] / truth[1][c], 1.0, 0.01) << s.summary();
+    EXPECT_NEAR(chroma(s.intensity[0])[c] / chroma(truth[0])[c], 1.0, 0.03) << s.summary();
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(chroma(s.regionFactor[r])[c] / chroma(wrong[r])[c], 1.0, 0.03)
+          << "region " << r << " channel " << c << "\n"
+          << s.summary();
+  }
+  // the level is the guesses': the factors' geometric mean over regions and channels is 1
+  double logMean = 0;
+  for (const Vec3d& f : s.regionFactor) logMean += f.array().log().sum() / 9;
+  EXPECT_NEAR(logMean, 0.0, 1e-6);
+  EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
+
+  // with the window's light under 5 % of the photo's energy it sets nothing: one scale per channel
+  d.direct[1].setTo(0);
+  d.direct[1](cv::Rect(0, 0, 20, 12)).setTo(255);
+  d.perLight[1] *= 0.01;
+  d.perLight[1](window).setTo(cv::Scalar::all(0.5));
+  const LightSolution u = solveLights({d});
+  ASSERT_TRUE(u.pinned[1]) << u.summary();
+  for (int c = 0; c < 3; ++c) {
+    double m = 0;
+    for (const Vec3d& f : u.regionFactor) m += std::log(f[c]) / 3;
+    EXPECT_NEAR(m, 0.0, 1e-6) << "channel " << c;
+  }
+}
+
 // The environment alone, its window seen in the second view only, surfaces it explains only in
 // part: the pinned intensity follows that view's exposure and the exposure the intensity, so
 // solved together they drifted (exposure to 0, the intensity to 1e153 on the yardstick's window
