@@ -386,7 +386,7 @@ LightSolution solveSamples(const std::vector<Samples>& data,
         // colour, the guesses the level (one scale over the channels); else one scale per channel
         if (weight > 0 && !givenScale) {
           Vec3d g = (logMean / weight).array().exp().matrix();
-          if (pinnedScale()) g.setConstant(std::cbrt(g.prod()));
+          if (options.pinnedLightSetsColour && pinnedScale()) g.setConstant(std::cbrt(g.prod()));
           for (Vec3d& f : sol.regionFactor) f = f.cwiseQuotient(g);
         }
       }
