@@ -303,6 +303,16 @@ TEST(Lighting_Solve, a_pinned_light_sets_the_colour_of_light_and_reflectance) {
   EXPECT_NEAR(logMean, 0.0, 1e-6);
   EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
 
+  // asked not to (the pipeline's first solve), one scale per channel as without the window
+  SolveOptions perChannel;
+  perChannel.pinnedLightSetsColour = false;
+  const LightSolution p = solveLights({d}, perChannel);
+  for (int c = 0; c < 3; ++c) {
+    double m = 0;
+    for (const Vec3d& f : p.regionFactor) m += std::log(f[c]) / 3;
+    EXPECT_NEAR(m, 0.0, 1e-6) << "channel " << c;
+  }
+
   // with the window's light under 5 % of the photo's energy it sets nothing: one scale per channel
   d.direct[1].setTo(0);
   d.direct[1](cv::Rect(0, 0, 20, 12)).setTo(255);
