@@ -93,7 +93,8 @@ LinkRef parseLink(const Parser& ps, const std::string& ref, const std::string& w
 
 /// The nodes in file order with their types and constant parameters (their defaults, then the
 /// file's `params`); `index` gets each node id's position.
-std::vector<NodeSpec> readNodes(const Parser& ps, const json& jn, std::map<std::string, int>& index) {
+std::vector<NodeSpec> readNodes(const Parser& ps, const json& jn,
+                                std::map<std::string, int>& index) {
   std::vector<NodeSpec> nodes;
   for (size_t i = 0; i < jn.size(); ++i) {
     const std::string w = "nodes[" + std::to_string(i) + "]";
@@ -102,7 +103,8 @@ std::vector<NodeSpec> readNodes(const Parser& ps, const json& jn, std::map<std::
     ns.id = ps.str(jn[i], "id", w);
     const std::string type = ps.str(jn[i], "type", w);
     ns.type = findNodeType(type);
-    if (!ns.type) ps.fail(w + ".type", "expected a node type of node_catalog.hpp, got \"" + type + "\"");
+    if (!ns.type)
+      ps.fail(w + ".type", "expected a node type of node_catalog.hpp, got \"" + type + "\"");
     if (index.count(ns.id)) ps.fail(w + ".id", "duplicate node id \"" + ns.id + "\"");
     index[ns.id] = int(i);
     const auto& d = ns.type->desc;
@@ -143,9 +145,11 @@ void linkInputs(const Parser& ps, const json& jn, const std::map<std::string, in
         int p = -1;
         for (size_t q = 0; q < ports.size(); ++q)
           if (ports[q].name == it.key()) p = int(q);
-        if (p < 0) ps.fail(w + "." + it.key(), "node type " + ns.type->desc.name + " has no such input");
+        if (p < 0)
+          ps.fail(w + "." + it.key(), "node type " + ns.type->desc.name + " has no such input");
         if (!it.value().is_string()) ps.fail(w + "." + it.key(), "expected \"node[.output]\"");
-        ns.inputs[p] = parseLink(ps, it.value().get<std::string>(), w + "." + it.key(), index, nodes);
+        ns.inputs[p] =
+            parseLink(ps, it.value().get<std::string>(), w + "." + it.key(), index, nodes);
       }
     }
     for (size_t q = 0; q < ports.size(); ++q)
@@ -259,7 +263,8 @@ std::vector<Binding> readParameter(const Parser& ps, const json& jp, const std::
     if (it == index.end()) ps.fail(tw, "no node \"" + s.substr(0, dot) + "\"");
     const NodeType& nt = *spec.nodes[it->second].type;
     const int pi = nt.findParam(s.substr(dot + 1));
-    if (pi < 0) ps.fail(tw, "node type " + nt.desc.name + " has no parameter \"" + s.substr(dot + 1) + "\"");
+    if (pi < 0)
+      ps.fail(tw, "node type " + nt.desc.name + " has no parameter \"" + s.substr(dot + 1) + "\"");
     const GraphParameter& np = nt.desc.params[pi];
     if (!first) {
       first = &np;
@@ -317,7 +322,8 @@ void readParameters(const Parser& ps, const json& j, const std::map<std::string,
     gp.name = ps.str(jp[i], "name", w);
     gp.doc = ps.str(jp[i], "doc", w, false);
     if (gp.name == "albedo_offset") ps.fail(w + ".name", "albedo_offset is added to every graph");
-    if (!seen.insert(gp.name).second) ps.fail(w + ".name", "duplicate parameter \"" + gp.name + "\"");
+    if (!seen.insert(gp.name).second)
+      ps.fail(w + ".name", "duplicate parameter \"" + gp.name + "\"");
     std::vector<Binding> binds = readParameter(ps, jp[i], w, index, spec, gp);
     gp.offset = offset;
     offset += gp.dim;

@@ -83,7 +83,8 @@ Frame demodulate(const DenoiseGuides& g, const cv::Mat& noisy, const DenoiseOpti
       for (int k = 0; k < 3; ++k) n[k] = std::isfinite(n[k]) ? n[k] : 0.0f;
       f.normal[i] = n;
       for (int k = 0; k < 3; ++k) {
-        f.albedo[i][k] = std::max(std::isfinite(a[k]) ? std::min(a[k], 1.0f) : 1.0f, o.albedoEpsilon);
+        f.albedo[i][k] =
+            std::max(std::isfinite(a[k]) ? std::min(a[k], 1.0f) : 1.0f, o.albedoEpsilon);
         f.demod[i][k] = finitePositive(c[k]) / f.albedo[i][k];
       }
     }
@@ -143,7 +144,8 @@ void initialVariance(Frame& f, const cv::Mat& variance) {
           const size_t j = f.at(xx, yy);
           if (!f.surface[j] || f.normal[i].dot(f.normal[j]) < 0.9f) continue;
           const float r = std::sqrt(float(dx * dx + dy * dy));
-          if (std::abs(f.depth[j] - f.depth[i]) > 2.0f * f.gradZ[i] * r + 1e-2f * f.depth[i]) continue;
+          if (std::abs(f.depth[j] - f.depth[i]) > 2.0f * f.gradZ[i] * r + 1e-2f * f.depth[i])
+            continue;
           const double l = luminance(f.demod[j]);
           s += l;
           s2 += l * l;
@@ -209,8 +211,8 @@ void atrousLevel(Frame& f, int step, const DenoiseOptions& o, std::vector<cv::Ve
             const float nd = std::max(0.0f, np.dot(f.normal[j]));
             const float wn = o.sigmaNormal > 0 ? std::pow(nd, o.sigmaNormal) : 1.0f;
             const float off = step * std::sqrt(float((kx - 2) * (kx - 2) + (ky - 2) * (ky - 2)));
-            const float wz =
-                std::exp(-std::abs(zp - f.depth[j]) / (o.sigmaDepth * f.gradZ[i] * off + 1e-3f * zp));
+            const float wz = std::exp(-std::abs(zp - f.depth[j]) /
+                                      (o.sigmaDepth * f.gradZ[i] * off + 1e-3f * zp));
             const float wl = std::exp(-std::abs(lp - luminance(f.demod[j])) / lumDenom);
             w *= wn * wz * wl;
           }
@@ -262,7 +264,8 @@ cv::Mat denoise(const DenoiseGuides& g, const cv::Mat& noisy, const DenoiseOptio
   initialVariance(f, g.variance);
   std::vector<cv::Vec3f> next(N);
   std::vector<float> nextVar(N), varBlur(N);
-  for (int level = 0; level < o.levels; ++level) atrousLevel(f, 1 << level, o, next, nextVar, varBlur);
+  for (int level = 0; level < o.levels; ++level)
+    atrousLevel(f, 1 << level, o, next, nextVar, varBlur);
   return remodulate(f);
 }
 
