@@ -245,25 +245,27 @@ LightSolution solveSamples(const std::vector<Samples>& data,
       if (r >= 0) regionWeight[r] += 1;
   auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
   // what sets the common scale of light and reflectance (LightSolution::regionFactor)
-  double givenSum = 0, photoSum = 0;
+  double givenSum = 0, photoSum = 0, regionPhotoSum = 0;
   for (const Samples& s : data) {
     for (float g : s.given) givenSum += g;
-    for (float p : s.photo) photoSum += p;
+    for (int i = 0; i < s.count; ++i)
+      for (int c = 0; c < 3; ++c) {
+        photoSum += s.photo[3 * i + c];
+        if (s.region[i] >= 0) regionPhotoSum += s.photo[3 * i + c];
+      }
   }
   const bool givenScale = givenSum > 0 && givenSum >= kKnownLightShare * photoSum;
   // ... of the light on the regions (not counting the pinned light's own pixels)
   auto pinnedScale = [&] {
-    double pinned = 0, photo = 0;
+    double pinned = 0;
     for (const Samples& s : data)
       for (int i = 0; i < s.count; ++i) {
         if (s.region[i] < 0) continue;
-        for (int c = 0; c < 3; ++c) {
-          photo += s.photo[3 * i + c];
-          for (int k : active)
-            if (sol.pinned[k]) pinned += sol.intensity[k][c] * s.light[k][3 * i + c];
-        }
+        for (int k : active)
+          if (sol.pinned[k])
+            for (int c = 0; c < 3; ++c) pinned += sol.intensity[k][c] * s.light[k][3 * i + c];
       }
-    return pinned > 0 && pinned >= kKnownLightShare * photo;
+    return pinned > 0 && pinned >= kKnownLightShare * regionPhotoSum;
   };
   // the given light and the active lights' sum at sample i, channel c (before exposure and
   // factor)

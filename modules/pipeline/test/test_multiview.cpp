@@ -457,10 +457,10 @@ TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
     for (int c = 0; c < 3; ++c)
       e[c] = std::log(std::max(1e-4, m["homogeneous"]["albedo"][c].get<double>()) /
                       t["albedo_mean_view0_linear"][c].get<double>());
-    colour += (e.array() - e.mean()).abs().mean();
+    const double error = (e.array() - e.mean()).abs().mean();
+    colour += error;
     ++large;
-    std::printf("  %-18s albedo colour error %.3f\n", name.c_str(),
-                (e.array() - e.mean()).abs().mean());
+    std::printf("  %-18s albedo colour error %.3f\n", name.c_str(), error);
   }
   ASSERT_GE(large, 3) << "large parts with a homogeneous albedo";
   EXPECT_LT(colour / large, 0.1);

@@ -57,8 +57,8 @@ struct ReportPart {
   std::vector<ReportFinalist> finalists;  ///< lowest loss first (select's short fits)
   double photoContrast = 0;               ///< the photo's typical local contrast (NaN: none)
   double photoCoarseContrast = 0;         ///< the same at coarseScale cells (NaN: none)
-  int coarseScale =
-      2;  ///< pixels a side of the cells of the coarse contrasts (fit.coarse_contrast_scale)
+  /// pixels a side of the cells of the coarse contrasts (fit.coarse_contrast_scale)
+  int coarseScale = 2;
   std::string textureRejected;  ///< the graph whose full fit was rejected for homogeneous
   json metrics;  ///< metrics.json's parts.<name>, or null
 };
