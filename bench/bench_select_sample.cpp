@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
       if (std::ifstream f(truthDir / (name + ".json")); f)
         truth = nlohmann::json::parse(f).value("graph", "?");
       const int pixels = cv::countNonZero(photoMask);
-      if (pixels < minPixels) {
+      if (ps::interiorPixels(photoMask) < minPixels) {  // the pipeline's small-part rule
         std::printf("%-12s %6d  %-22s %-22s %-22s\n", name.c_str(), pixels, truth.c_str(),
                     "homogeneous", "homogeneous");
         continue;

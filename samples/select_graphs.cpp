@@ -4,7 +4,8 @@
 //
 // The bank (every library graph x random draws, rendered canonically, described by the
 // lighting-invariant texture key) is built once and cached; each part large enough to show
-// texture gets the graph its 21 nearest exemplars vote for; small parts get the homogeneous one.
+// texture gets the graph its 21 nearest exemplars vote for; small or thin parts get the
+// homogeneous one.
 #include <cstdio>
 
 #include "photoscene/core.hpp"
@@ -31,9 +32,11 @@ int main(int argc, char** argv) {
       const cv::Mat mask = view.segments == label;
       const int pixels = cv::countNonZero(mask);
       if (pixels == 0) continue;
-      if (pixels < minPixels) {
-        std::printf("%-16s %7d  %-26s %-10s (below %d px)\n", scene.parts[part].name.c_str(), pixels, "homogeneous",
-                    "homogeneous", minPixels);
+      // small or thin: too few pixels whose texture window lies inside the part
+      if (const int interior = ps::interiorPixels(mask); interior < minPixels) {
+        std::printf("%-16s %7d  %-26s %-10s (interior %d px, below %d)\n",
+                    scene.parts[part].name.c_str(), pixels, "homogeneous", "homogeneous", interior,
+                    minPixels);
         continue;
       }
       const ps::GraphChoice c = ps::selectForPart(bank, view.photo, mask, cv::Mat());  // no UVs here: photo frame

@@ -1,5 +1,6 @@
 // Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), homogeneous
-// below the small-part threshold, else the kNN vote over the exemplar bank shortlists and the
+// below the small-part threshold (counted over the part's interior: a chair's thin frame shows
+// its outline, not a texture), else the kNN vote over the exemplar bank shortlists and the
 // shortlist's short fits on the part under incident0 decide (select/synthesis.hpp).
 #include <cstdlib>
 
@@ -33,8 +34,9 @@ class SelectStage : public Stage {
     // winner's typical local contrast at most maxContrastRatio x the photo's, and the best
     // textured finalist that passes both tests is the one weighed against homogeneous; 9: the
     // faces of a part brought to one level before the vote (preparePartTexture), and the
-    // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale)
-    decl.version = 9;
+    // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 10: a
+    // part's size for the small-part rule is its interior (interiorPixels), not its pixel count
+    decl.version = 10;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -53,7 +55,7 @@ class SelectStage : public Stage {
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
-    } else if (cv::countNonZero(view.photoMask.at(p.id)) <
+    } else if (interiorPixels(view.photoMask.at(p.id)) <  // where a texture window fits
                homogeneousThreshold(camera.width(), camera.height())) {
       p.graph = "homogeneous";
     } else {

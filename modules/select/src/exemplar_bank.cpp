@@ -630,4 +630,13 @@ int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240) {
       pixelsAt320x240 * (static_cast<double>(imageWidth) * imageHeight) / (320.0 * 240.0)));
 }
 
+int interiorPixels(const cv::Mat& mask, int radiusAt320) {
+  if (mask.empty()) return 0;
+  const int r = std::max(1, static_cast<int>(std::lround(radiusAt320 * mask.cols / 320.0)));
+  cv::Mat inside;
+  cv::erode(mask, inside, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)),
+            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  return cv::countNonZero(inside);
+}
+
 }  // namespace ps

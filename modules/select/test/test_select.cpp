@@ -339,5 +339,33 @@ TEST(Select_Rules, homogeneous_threshold_scales_with_resolution) {
   EXPECT_EQ(homogeneousThreshold(160, 120, 1000), 250);
 }
 
+TEST(Select_Rules, thin_parts_show_no_interior_for_texture) {
+  // A chair's frame: 6 bars 5 px wide, 100 px long (3000 px, three times the small-part
+  // threshold at 320 x 240) has no pixel whose 7 x 7 window lies in it; a compact 55 x 55 part
+  // of the same size keeps 49 x 49 of them. At 640 x 480 the window is 13 x 13, so the same
+  // geometry drawn twice as large gives the same answer.
+  for (const int s : {1, 2}) {
+    cv::Mat frame = cv::Mat::zeros(240 * s, 320 * s, CV_8UC1),
+            block = cv::Mat::zeros(240 * s, 320 * s, CV_8UC1);
+    for (int b = 0; b < 6; ++b)
+      frame(cv::Rect((20 + 15 * b) * s, 40 * s, 5 * s, 100 * s)).setTo(255);
+    block(cv::Rect(100 * s, 100 * s, 55 * s, 55 * s)).setTo(255);
+    EXPECT_EQ(cv::countNonZero(frame), 3000 * s * s);
+    EXPECT_EQ(interiorPixels(frame), 0);
+    const int inner = 55 * s - 2 * 3 * s;
+    EXPECT_EQ(interiorPixels(block), inner * inner);
+    EXPECT_GT(interiorPixels(block), homogeneousThreshold(320 * s, 240 * s));
+  }
+  // a part that runs off the image has no window there: the edge's band is not interior
+  cv::Mat full(240, 320, CV_8UC1, cv::Scalar(255));
+  EXPECT_EQ(interiorPixels(full), (320 - 6) * (240 - 6));
+  // one pixel, or none
+  cv::Mat one = cv::Mat::zeros(240, 320, CV_8UC1);
+  EXPECT_EQ(interiorPixels(one), 0);
+  one.at<uchar>(120, 160) = 255;
+  EXPECT_EQ(interiorPixels(one), 0);
+  EXPECT_EQ(interiorPixels(cv::Mat()), 0);
+}
+
 }  // namespace
 }  // namespace ps

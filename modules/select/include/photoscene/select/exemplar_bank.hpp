@@ -230,7 +230,18 @@ class ExemplarBank {
 };
 
 /// Parts smaller than this many pixels get the homogeneous material: `pixelsAt320x240` at
-/// 320 x 240, scaled with the image's pixel count (the paper's small-part rule).
+/// 320 x 240, scaled with the image's pixel count (the paper's small-part rule). The pipeline
+/// counts a part's interiorPixels, not all of its pixels.
 int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240 = 1000);
+
+/// The pixels of `mask` (CV_8UC1, nonzero inside) whose whole square window of half-width
+/// `radiusAt320` (at 320 px image width, scaled with the mask's width; at least 1) lies in the
+/// mask and in the image: where a texture can be seen, not only the part's outline. A chair's
+/// frame of 3000 px in bars 5 px wide has none: its pixels are edges and what lies behind them,
+/// and a graph fitted to their statistics is a texture the part does not have (on the
+/// blender-room example with a second view, `plaster_venetian` on a chair's wood and
+/// `wallpaper_stripes` on a table's legs). 7 x 7 at 320 px: +-2 sigma of the texture key's
+/// finest Gabor envelope.
+int interiorPixels(const cv::Mat& mask, int radiusAt320 = 3);
 
 }  // namespace ps
