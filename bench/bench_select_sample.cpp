@@ -78,7 +78,6 @@ int main(int argc, char** argv) {
     std::map<int, int> pinned = view.segmentParts;
     if (labels.empty()) labels = ps::align::proposeRegions(view.photo, geo, &pinned);
     const ps::align::MatchResult match = ps::align::matchRegions(labels, geo, pinned);
-    const int minPixels = ps::homogeneousThreshold(view.camera.width(), view.camera.height());
 
     std::printf("%-12s %6s  %-22s %-22s %-22s\n", "part", "pixels", "truth", "photo-frame key",
                 "selectForPart");
@@ -90,7 +89,7 @@ int main(int argc, char** argv) {
       if (std::ifstream f(truthDir / (name + ".json")); f)
         truth = nlohmann::json::parse(f).value("graph", "?");
       const int pixels = cv::countNonZero(photoMask);
-      if (ps::interiorPixels(photoMask) < minPixels) {  // the pipeline's small-part rule
+      if (ps::isSmallPart(photoMask, view.camera.width(), view.camera.height())) {
         std::printf("%-12s %6d  %-22s %-22s %-22s\n", name.c_str(), pixels, truth.c_str(),
                     "homogeneous", "homogeneous");
         continue;

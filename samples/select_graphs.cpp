@@ -33,9 +33,9 @@ int main(int argc, char** argv) {
       const int pixels = cv::countNonZero(mask);
       if (pixels == 0) continue;
       // small or thin: too few pixels whose texture window lies inside the part
-      if (const int interior = ps::interiorPixels(mask); interior < minPixels) {
-        std::printf("%-16s %7d  %-26s %-10s (interior %d px, below %d)\n",
-                    scene.parts[part].name.c_str(), pixels, "homogeneous", "homogeneous", interior,
+      if (ps::isSmallPart(mask, view.camera.width(), view.camera.height())) {
+        std::printf("%-16s %7d  %-26s %-10s (interior below %d px)\n",
+                    scene.parts[part].name.c_str(), pixels, "homogeneous", "homogeneous",
                     minPixels);
         continue;
       }

@@ -55,8 +55,7 @@ class SelectStage : public Stage {
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
-    } else if (interiorPixels(view.photoMask.at(p.id)) <  // where a texture window fits
-               homogeneousThreshold(camera.width(), camera.height())) {
+    } else if (isSmallPart(view.photoMask.at(p.id), camera.width(), camera.height())) {
       p.graph = "homogeneous";
     } else {
       if (!bank_) {

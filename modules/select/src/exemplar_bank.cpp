@@ -639,4 +639,8 @@ int interiorPixels(const cv::Mat& mask, int radiusAt320) {
   return cv::countNonZero(inside);
 }
 
+bool isSmallPart(const cv::Mat& mask, int imageWidth, int imageHeight) {
+  return interiorPixels(mask) < homogeneousThreshold(imageWidth, imageHeight);
+}
+
 }  // namespace ps

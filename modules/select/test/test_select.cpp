@@ -355,6 +355,8 @@ TEST(Select_Rules, thin_parts_show_no_interior_for_texture) {
     const int inner = 55 * s - 2 * 3 * s;
     EXPECT_EQ(interiorPixels(block), inner * inner);
     EXPECT_GT(interiorPixels(block), homogeneousThreshold(320 * s, 240 * s));
+    EXPECT_TRUE(isSmallPart(frame, 320 * s, 240 * s));
+    EXPECT_FALSE(isSmallPart(block, 320 * s, 240 * s));
   }
   // a part that runs off the image has no window there: the edge's band is not interior
   cv::Mat full(240, 320, CV_8UC1, cv::Scalar(255));

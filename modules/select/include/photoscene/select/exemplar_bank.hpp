@@ -230,8 +230,8 @@ class ExemplarBank {
 };
 
 /// Parts smaller than this many pixels get the homogeneous material: `pixelsAt320x240` at
-/// 320 x 240, scaled with the image's pixel count (the paper's small-part rule). The pipeline
-/// counts a part's interiorPixels, not all of its pixels.
+/// 320 x 240, scaled with the image's pixel count (the paper's small-part rule). isSmallPart
+/// compares a part's interiorPixels with it, not all of its pixels.
 int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240 = 1000);
 
 /// The pixels of `mask` (CV_8UC1, nonzero inside) whose whole square window of half-width
@@ -243,5 +243,9 @@ int homogeneousThreshold(int imageWidth, int imageHeight, int pixelsAt320x240 = 
 /// `wallpaper_stripes` on a table's legs). 7 x 7 at 320 px: +-2 sigma of the texture key's
 /// finest Gabor envelope.
 int interiorPixels(const cv::Mat& mask, int radiusAt320 = 3);
+
+/// The small-part rule as the pipeline applies it: the part (`mask`, in an image of this size)
+/// has fewer interiorPixels than homogeneousThreshold, so it gets the homogeneous material.
+bool isSmallPart(const cv::Mat& mask, int imageWidth, int imageHeight);
 
 }  // namespace ps
