@@ -192,6 +192,8 @@ class PinStage : public Stage {
       }
     ctx.albedoPin =
         (lum > 1e-9 && weight > 0) ? static_cast<float>(in.meanAlbedo() / (lum / weight)) : 1.0f;
+    spdlog::info("pin: neutral albedo = photo median x {:.4g} (mean albedo {} over {:.0f} px)",
+                 ctx.albedoPin, in.meanAlbedo(), weight);
     return true;
   }
   void save(const Context&, int, Archive&) const override {}
