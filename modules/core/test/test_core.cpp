@@ -84,6 +84,38 @@ TEST(Core_Image, check_image_reports_types) {
   EXPECT_FALSE(allFinite(f));
 }
 
+TEST(Core_Image, periodic_sample_is_bilinear_and_wraps_on_both_axes) {
+  // a 5 x 3 map (not square, odd): texel centres return the texel, the seam between the last and
+  // the first column (row) is the mean of the two, and any whole period added to (u, v), negative
+  // too, returns the same value
+  const int n = 5, m = 3;
+  cv::Mat map(m, n, CV_32FC3);
+  Rng rng(11);
+  for (int y = 0; y < m; ++y)
+    for (int x = 0; x < n; ++x)
+      map.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(rng.uniform(0.f, 1.f), rng.uniform(0.f, 1.f), rng.uniform(0.f, 1.f));
+  auto texel = [&](int x, int y) { return map.at<cv::Vec3f>(y, x); };
+  for (int y = 0; y < m; ++y)
+    for (int x = 0; x < n; ++x) {
+      const float u = (x + 0.5f) / n, v = 1.0f - (y + 0.5f) / m;
+      EXPECT_LT(cv::norm(samplePeriodic(map, u, v) - texel(x, y)), 1e-6) << x << ", " << y;
+    }
+  const float v0 = 1.0f - 0.5f / m;  // the centre of row 0
+  EXPECT_LT(cv::norm(samplePeriodic(map, 1.0f, v0) - 0.5f * (texel(n - 1, 0) + texel(0, 0))), 1e-6);
+  EXPECT_LT(cv::norm(samplePeriodic(map, 0.0f, v0) - 0.5f * (texel(n - 1, 0) + texel(0, 0))), 1e-6);
+  const float u0 = 0.5f / n;  // the centre of column 0; v = 0 is the seam of the last and first row
+  EXPECT_LT(cv::norm(samplePeriodic(map, u0, 0.0f) - 0.5f * (texel(0, m - 1) + texel(0, 0))), 1e-6);
+  for (int i = 0; i < 200; ++i) {
+    const float u = rng.uniform(0.f, 1.f), v = rng.uniform(0.f, 1.f);
+    const cv::Vec3f ref = samplePeriodic(map, u, v);
+    for (int k : {-3, -1, 1, 2}) {
+      EXPECT_LT(cv::norm(samplePeriodic(map, u + k, v) - ref), 1e-4) << u << " + " << k;
+      EXPECT_LT(cv::norm(samplePeriodic(map, u, v + k) - ref), 1e-4) << v << " + " << k;
+    }
+  }
+}
+
 TEST(Core_Rng, same_seed_same_sequence_and_split_is_stable) {
   Rng a(42), b(42), c(43);
   bool anyDiff = false;
