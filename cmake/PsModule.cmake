@@ -18,6 +18,17 @@
 
 include(GNUInstallDirs)
 
+# ps_test_binary(<target>): a GoogleTest binary's own files compile at -O1 in an optimised build:
+# what they run fast is the libraries' code (-O3, unchanged); their files are parsing and
+# assertions, which compiled in 27 % less time at -O1 (test_stages.cpp: 15.8 -> 11.5 s). With
+# ISO C++ (no GNU extensions) GCC contracts no floating-point expression at any level, so a
+# test's arithmetic gives the same numbers.
+function(ps_test_binary target)
+  if(CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo)$" AND NOT PS_SANITIZE)
+    target_compile_options(${target} PRIVATE -O1)
+  endif()
+endfunction()
+
 define_property(GLOBAL PROPERTY PS_MODULES BRIEF_DOCS "photoscene modules" FULL_DOCS "all modules")
 
 function(ps_define_module name)
@@ -54,6 +65,7 @@ function(ps_define_module name)
       target_compile_definitions(ps_test_${name} PRIVATE
         PS_SHARED_DATA_DIR="${PS_SHARED_DATA_DIR}" PS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
         PS_BINARY_DIR="${CMAKE_BINARY_DIR}")
+      ps_test_binary(ps_test_${name})
       set(filter)
       foreach(suite IN LISTS ARG_WHOLE_SUITES)
         list(APPEND filter "${suite}.*")
