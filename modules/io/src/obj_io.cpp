@@ -2,6 +2,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -22,6 +23,9 @@ struct ParseState {
   ObjMesh mesh;
   std::map<std::string, int> materialIndex;
   int currentMaterial = -1;
+  int currentO = -1, currentG = -1;  // the latest `o` and `g` names (indices into the lists below)
+  std::vector<std::string> oNames, gNames;
+  std::vector<int> triangleO, triangleG;
   int line = 0;
   std::string file;
   std::vector<RawCorner> corners;
@@ -174,6 +178,8 @@ void onFace(void* user, tinyobj::index_t* indices, int count) {
     s.mesh.triangles.push_back({a, b, c});
     s.mesh.triangleMaterial.push_back(material);
     s.mesh.triangleLine.push_back(s.line);
+    s.triangleO.push_back(s.currentO);
+    s.triangleG.push_back(s.currentG);
   };
   if (count == 3) {
     push(corners[0], corners[1], corners[2]);
@@ -189,6 +195,20 @@ void onFace(void* user, tinyobj::index_t* indices, int count) {
       pos[i] = s.mesh.positions[v];
   }
   for (const auto& t : triangulate(pos)) push(corners[t[0]], corners[t[1]], corners[t[2]]);
+}
+
+// `o NAME` / `g NAME ...`: the object the following faces belong to (one name per line, as written;
+// a `g` line with several names or none is one group under its whole text).
+void onObjectLine(ParseState& s, const std::string& line, size_t first) {
+  const bool isO = line[first] == 'o';
+  std::string name = line.substr(first + 1);
+  const size_t a = name.find_first_not_of(" \t");
+  name = a == std::string::npos ? std::string() : name.substr(a);
+  while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+  if (name.empty()) name = isO ? "object" : "default";
+  std::vector<std::string>& names = isO ? s.oNames : s.gNames;
+  names.push_back(name);
+  (isO ? s.currentO : s.currentG) = static_cast<int>(names.size()) - 1;
 }
 
 }  // namespace
@@ -226,13 +246,21 @@ ObjMesh readObj(const fs::path& path, const ObjLimits& limits) {
     const size_t first = line.find_first_not_of(" \t");
     if (first == std::string::npos) continue;
     const char c = line[first];
-    if (c != 'v' && c != 'f' && c != 'u') continue;  // comments, groups, mtllib, s, o, l, p
+    if ((c == 'o' || c == 'g') && first + 1 < line.size() &&
+        (line[first + 1] == ' ' || line[first + 1] == '\t')) {
+      onObjectLine(state, line, first);
+      continue;
+    }
+    if (c != 'v' && c != 'f' && c != 'u') continue;  // comments, mtllib, s, l, p
     std::istringstream ls(line);
     std::string warn, err;
     tinyobj::LoadObjWithCallback(ls, cb, &state, nullptr, &warn, &err);
   }
 
   ObjMesh& mesh = state.mesh;
+  const bool byO = !state.oNames.empty();
+  mesh.objectNames = byO ? state.oNames : state.gNames;
+  mesh.triangleObject = byO ? state.triangleO : state.triangleG;
   if (mesh.triangles.empty())
     throw InputError(path.string(), "", "no faces: expected at least one triangle (lines starting with 'f')");
   const int nv = static_cast<int>(mesh.positions.size());
@@ -262,8 +290,14 @@ void writeObj(const fs::path& path, const ObjMesh& mesh) {
   for (const Vec3f& p : mesh.positions) os << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   for (const Vec2f& t : mesh.texcoords) os << "vt " << t.x() << ' ' << t.y() << '\n';
   for (const Vec3f& n : mesh.normals) os << "vn " << n.x() << ' ' << n.y() << ' ' << n.z() << '\n';
-  int current = -2;
+  int current = -2, object = -1;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int o = t < mesh.triangleObject.size() ? mesh.triangleObject[t] : -1;
+    if (o != object && o >= 0 && o < static_cast<int>(mesh.objectNames.size())) {
+      os << "o " << mesh.objectNames[o] << '\n';
+      object = o;
+      current = -2;  // a new object restates its material
+    }
     const int m = t < mesh.triangleMaterial.size() ? mesh.triangleMaterial[t] : -1;
     if (m != current && m >= 0 && m < static_cast<int>(mesh.materialNames.size())) {
       os << "usemtl " << mesh.materialNames[m] << '\n';

@@ -303,6 +303,7 @@ SceneDesc readSceneJson(const fs::path& path) {
         preset->fail("\"fast\", \"balanced\" or \"paper\"");
     }
     if (auto seed = options->get("seed")) scene.options.seed = static_cast<uint64_t>(seed->integer(0));
+    if (auto refine = options->get("refine_poses")) scene.options.refinePoses = refine->boolean();
   }
   return scene;
 }

@@ -165,6 +165,26 @@ TEST(Io_Obj, round_trip_through_writer) {
   EXPECT_EQ(r.triangles[0][1].texcoord, 1);
 }
 
+// Objects (the pieces a pose is fitted for): `o` names, else `g` names; the writer keeps them.
+TEST(Io_Obj, objects_are_the_o_names_else_the_g_names_and_survive_the_writer) {
+  TempDir dir;
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  writeTextFile(dir / "o.obj", tri + "o chair_1\ng seat\nusemtl wood\nf 1 2 3\n" +
+                                   "o  sofa \nusemtl fabric\nf 1 3 2\nf 2 3 1\n");
+  const ObjMesh o = readObj(dir / "o.obj");
+  ASSERT_EQ(o.objectNames, (std::vector<std::string>{"chair_1", "sofa"}));
+  EXPECT_EQ(o.triangleObject, (std::vector<int>{0, 1, 1}));
+  writeTextFile(dir / "g.obj", "f 1 2 3\n" + tri + "g table\nf 1 2 3\n");  // a face before any
+  const ObjMesh g = readObj(dir / "g.obj");
+  EXPECT_EQ(g.objectNames, (std::vector<std::string>{"table"}));
+  EXPECT_EQ(g.triangleObject, (std::vector<int>{-1, 0}));
+  writeObj(dir / "w.obj", o);
+  const ObjMesh r = readObj(dir / "w.obj");
+  EXPECT_EQ(r.objectNames, o.objectNames);
+  EXPECT_EQ(r.triangleObject, o.triangleObject);
+  EXPECT_EQ(r.triangleMaterial, o.triangleMaterial);
+}
+
 // Issue 9, resource limits: refused at the first triangle / vertex over the limit (named by its
 // line), and by the file size before anything is read.
 TEST(Io_Obj, files_over_the_limits_are_refused_naming_the_line_and_the_limit) {

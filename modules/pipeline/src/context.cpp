@@ -95,6 +95,11 @@ void Context::applyLights(const std::vector<Vec3d>& intensity) {
     lights[in_.freeLights[i]]->setScale(intensity[i].cast<float>());
 }
 
+void Context::applyPoses(std::vector<PoseFit> fits) {
+  for (const PoseFit& f : fits) applyObjectPose(in_.scene.mesh, f.object, f.pose, in_.scene.up);
+  poses = std::move(fits);
+}
+
 std::string Context::describe() const {
   const Scene& scene = in_.scene;
   const PipelineOptions& o = in_.options;

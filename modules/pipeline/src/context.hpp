@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "photoscene/align/pose.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/optim.hpp"
@@ -180,6 +181,8 @@ class Context {
                ? exposure[view]
                : 1.0;
   }
+  /// poses: the objects moved onto the labels, in the order they were moved (applyPoses)
+  std::vector<PoseFit> poses;
   std::unique_ptr<StageCache> cache;
   PipelineResult result;
   Timer clock;  ///< since the run started
@@ -190,6 +193,9 @@ class Context {
   /// The lights stages' result: the free lights' scales (in `freeLights` order) written into the
   /// scene the later path tracers see.
   void applyLights(const std::vector<Vec3d>& intensity);
+  /// The poses stage's result: `poses` kept and its objects moved in the scene's mesh, which every
+  /// later stage and the twin's geometry use.
+  void applyPoses(std::vector<PoseFit> fits);
   /// The run in one line (scene, views, parts, lights, preset) for the log.
   std::string describe() const;
   /// Fills `result` with what the run recovered (lights, exposure, time, memory).

@@ -17,6 +17,7 @@ namespace pipeline {
 StageList pipelineStages(const PipelineOptions& options) {
   StageList s;
   s.push_back(makePartsStage());      // what each part gets (scene.json)
+  s.push_back(makePosesStage());      // furniture moved onto the labels (before any render)
   s.push_back(makeGeometryStage());   // per view: G-buffers
   s.push_back(makeAlignStage());      // per view: M_photo, Eq. (1), M_aln
   s.push_back(makeObserveStage());    // per part: its view and median colour

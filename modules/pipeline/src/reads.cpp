@@ -134,6 +134,11 @@ bool Reads::partSkip(int part) const {
   return d && d->skip;
 }
 
+bool Reads::refinePoses() const {
+  need("options.refine_poses");
+  return ctx_.in_.scene.desc.options.refinePoses;
+}
+
 uint64_t Reads::seed() const {
   need("options.seed");
   return ctx_.in_.seed;

@@ -71,8 +71,9 @@ class Reads {
   Reads(const Context& ctx, const StageDecl& decl, int unit);
 
   // scene.json
-  const Scene& sceneGeometry() const;     ///< mesh, parts, area lights: `geometry`, `up`,
-                                          ///< `lights.area`, `lights.auto_ceiling_spacing`
+  /// mesh (as the `poses` stage moved it), parts, area lights: `geometry`, `up`, `lights.area`,
+  /// `lights.auto_ceiling_spacing`
+  const Scene& sceneGeometry() const;
   const Scene& litScene() const;          ///< the whole scene for the path tracer: + `lights`
   std::vector<int> emitterParts() const;  ///< parts that emit: `lights.area[].part`, `geometry`
   std::vector<int> windowParts() const;   ///< `lights.environment.window_parts`, `geometry`
@@ -90,6 +91,7 @@ class Reads {
   const std::optional<io::HomogeneousDesc>& partFixed(int part) const;  ///< `parts.{}.fixed`
   bool partSkip(int part) const;                                        ///< `parts.{}.skip`
   uint64_t seed() const;                                                ///< `options.seed`
+  bool refinePoses() const;                                             ///< `options.refine_poses`
   const fs::path& sceneFile() const;                                    ///< "" (the whole file)
   const fs::path& evalScene() const;  ///< scene.json for `eval`: "" and ground_truth
   const Scene& wholeScene() const;    ///< "" (the whole file)

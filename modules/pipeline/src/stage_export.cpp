@@ -2,6 +2,7 @@
 // --texture-size with the graphs evaluated there, materials/*.json, lights.json, scene.json,
 // renders, twin.gltf), every file written whole (temporary name + rename). It reads the whole
 // scene.json: the twin's scene.json is the input's, extended.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -183,10 +184,20 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
 
 // The inputs the twin's scene.json names (geometry, photos, label images), copied into the folder
 // so that it stands alone; returns the input scene.json with those paths pointing at the copies.
-nlohmann::json copyInputs(const Scene& scene, const fs::path& out) {
+// The geometry is the OBJ with the objects the poses stage moved, moved.
+nlohmann::json copyInputs(const Scene& scene, const std::vector<PoseFit>& poses,
+                          const fs::path& out) {
   nlohmann::json j = scene.desc.rawJson;
   const fs::path geometry = fs::path("geometry") / scene.desc.geometry.filename();
-  copyFile(scene.desc.geometry, out / geometry);
+  if (std::all_of(poses.begin(), poses.end(),
+                  [](const PoseFit& f) { return f.pose.isIdentity(); })) {
+    copyFile(scene.desc.geometry, out / geometry);
+  } else {
+    io::ObjMesh obj = io::readObj(scene.desc.geometry);
+    for (const PoseFit& f : poses) applyObjectPose(obj, f.object, f.pose, scene.up);
+    fs::create_directories((out / geometry).parent_path());
+    io::writeObj(out / geometry, obj);
+  }
   j["geometry"] = geometry.generic_string();
   for (size_t v = 0; v < scene.views.size(); ++v) {
     const io::ViewDesc& d = scene.desc.views[v];
@@ -231,7 +242,7 @@ nlohmann::json writeRecoveredLights(const Context& ctx, const Scene& scene, cons
 // lights.json and the scene.json of the twin
 void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
   const Scene& scene = in.wholeScene();
-  nlohmann::json j = copyInputs(scene, out);
+  nlohmann::json j = copyInputs(scene, ctx.poses, out);
   j["lights"] = writeRecoveredLights(ctx, scene, out);
   io::writeJsonFile(out / "scene.json", j);
 }
@@ -278,7 +289,8 @@ class ExportStage : public Stage {
                    "OUT/textures/*",
                    "OUT/lights.json",
                    "OUT/scene.json",
-                   "OUT/geometry, photos, segments, env (copies)",
+                   "OUT/geometry (the OBJ, objects moved as `poses` found), photos, segments, "
+                   "env (copies)",
                    "OUT/renders/*",
                    "OUT/twin.gltf, twin.bin"};
   }

@@ -14,6 +14,7 @@ class GeometryStage : public Stage {
     decl.unit = Unit::View;
     decl.scene = {"geometry", "up", "lights.area", "lights.auto_ceiling_spacing", "views[].camera"};
     decl.options = {"work_width"};
+    decl.after = {"poses"};
     decl.writes = {"ViewWork::gbuffer"};
   }
 

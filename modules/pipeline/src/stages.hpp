@@ -9,6 +9,7 @@
 namespace ps::pipeline {
 
 std::unique_ptr<Stage> makePartsStage();     ///< stage_parts.cpp: what each part gets
+std::unique_ptr<Stage> makePosesStage();     ///< stage_poses.cpp: furniture moved onto the labels
 std::unique_ptr<Stage> makeGeometryStage();  ///< stage_geometry.cpp: G-buffers per view
 std::unique_ptr<Stage> makeAlignStage();     ///< stage_align.cpp: aligned masks per view
 std::unique_ptr<Stage> makeObserveStage();   ///< stage_align.cpp: each part's view and median

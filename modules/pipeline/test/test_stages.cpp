@@ -223,7 +223,8 @@ TEST_F(Stages_Keys, adding_a_key_changes_exactly_the_keys_downstream_of_it) {
       {"/lights/environment/window_parts", {"wall_front"}},
       {"/parts/cabinet/fixed", {{"albedo", {0.3, 0.3, 0.3}}}},
       {"/parts/floor/graph", "wood_planks"},
-      {"/parts/rug/skip", true}};
+      {"/parts/rug/skip", true},
+      {"/options/refine_poses", false}};
   for (const auto& [where, value] : added) {
     nlohmann::json edited = original_;
     edited[Pointer(where)] = value;
@@ -406,6 +407,7 @@ TEST(Stages_Runner, a_new_stage_is_keyed_cached_and_reported_from_its_declaratio
     StageList stages;
     stages.push_back(makePartsStage());
     stages.push_back(std::make_unique<LightMaskStage>());  // before its upstream: the runner orders
+    stages.push_back(makePosesStage());
     stages.push_back(makeGeometryStage());
     stages.push_back(makeAlignStage());
     Runner(std::move(stages)).run(*ctx);

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <Eigen/Geometry>
+
 #include <map>
 #include <numeric>
 
@@ -27,6 +29,91 @@ Eigen::AlignedBox3f Mesh::bounds() const {
   return box;
 }
 
+Mat3f ObjectPose::rotation(const Vec3f& up) const {
+  return Eigen::AngleAxisf(yaw, up.normalized()).toRotationMatrix();
+}
+
+Vec3f objectPivot(const Mesh& mesh, int object, const Vec3f& up) {
+  Vec3f e1, e2;
+  horizontalAxes(up, &e1, &e2);
+  Eigen::AlignedBox3f box;  // in (e1, e2, up) coordinates
+  for (size_t t = 0; t < mesh.numTriangles(); ++t)
+    if (mesh.objectIds[t] == object)
+      for (int k = 0; k < 3; ++k) {
+        const Vec3f& p = mesh.positions[mesh.triangles[t][k]];
+        box.extend(Vec3f(p.dot(e1), p.dot(e2), p.dot(up)));
+      }
+  if (box.isEmpty()) return Vec3f::Zero();
+  const Vec3f c = box.center();
+  return e1 * c.x() + e2 * c.y() + up * box.min().z();
+}
+
+namespace {
+
+// Makes the entries `index(t, k)` that the object's triangles use their own: an entry shared with
+// a triangle outside the object is appended again and the object's corners re-pointed. Returns
+// the entries the object now owns.
+template <typename T, typename Index>
+std::vector<int> detach(std::vector<T>& values, size_t triangles, const std::vector<int>& objectOf,
+                        int object, Index index) {
+  std::vector<int8_t> use(values.size(), 0);  // bit 1: the object's, bit 2: another's
+  for (size_t t = 0; t < triangles; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (const int i = index(t, k); i >= 0) use[i] |= objectOf[t] == object ? 1 : 2;
+  std::vector<int> copy(values.size(), -1), owned;
+  for (size_t t = 0; t < triangles; ++t) {
+    if (objectOf[t] != object) continue;
+    for (int k = 0; k < 3; ++k) {
+      int& i = index(t, k);
+      if (i < 0) continue;
+      if (use[i] == 3) {
+        if (copy[i] < 0) {
+          copy[i] = static_cast<int>(values.size());
+          values.push_back(values[i]);
+          owned.push_back(copy[i]);
+        }
+        i = copy[i];
+      } else if (use[i] == 1) {
+        use[i] = 4;  // counted once
+        owned.push_back(i);
+      }
+    }
+  }
+  return owned;
+}
+
+}  // namespace
+
+void applyObjectPose(Mesh& mesh, int object, const ObjectPose& pose, const Vec3f& up) {
+  if (pose.isIdentity()) return;
+  const std::vector<int> owned =
+      detach(mesh.positions, mesh.numTriangles(), mesh.objectIds, object,
+             [&](size_t t, int k) -> int& { return mesh.triangles[t][k]; });
+  for (int i : owned) mesh.positions[i] = pose.point(mesh.positions[i], up);
+  const Mat3f r = pose.rotation(up);
+  bool generated = false;
+  for (size_t t = 0; t < mesh.numTriangles(); ++t) {
+    if (mesh.objectIds[t] != object) continue;
+    for (int k = 0; k < 3; ++k) mesh.cornerNormals[3 * t + k] = r * mesh.cornerNormals[3 * t + k];
+    generated = generated || mesh.generatedUv[t];
+  }
+  if (generated) generateUvs(mesh, up);
+}
+
+void applyObjectPose(io::ObjMesh& mesh, int object, const ObjectPose& pose, const Vec3f& up) {
+  if (pose.isIdentity()) return;
+  const size_t n = mesh.triangles.size();
+  const std::vector<int> positions =
+      detach(mesh.positions, n, mesh.triangleObject, object,
+             [&](size_t t, int k) -> int& { return mesh.triangles[t][k].position; });
+  const std::vector<int> normals =
+      detach(mesh.normals, n, mesh.triangleObject, object,
+             [&](size_t t, int k) -> int& { return mesh.triangles[t][k].normal; });
+  for (int i : positions) mesh.positions[i] = pose.point(mesh.positions[i], up);
+  const Mat3f r = pose.rotation(up);
+  for (int i : normals) mesh.normals[i] = r * mesh.normals[i];
+}
+
 void horizontalAxes(const Vec3f& up, Vec3f* e1, Vec3f* e2) {
   // the world axis least aligned with up, made orthogonal to it
   int axis = 0;
@@ -47,6 +134,9 @@ Mesh meshFromObj(const io::ObjMesh& obj, std::vector<Part>* parts, const Vec3f& 
   mesh.cornerUvs.resize(3 * n, Vec2f::Zero());
   mesh.partIds.resize(n);
   mesh.generatedUv.assign(n, 0);
+  mesh.objectNames = obj.objectNames;
+  mesh.objectIds = obj.triangleObject;
+  mesh.objectIds.resize(n, -1);
   parts->clear();
   for (size_t i = 0; i < obj.materialNames.size(); ++i)
     parts->push_back(Part{obj.materialNames[i], static_cast<int>(i), 0, 0});

@@ -3,4 +3,5 @@
 #pragma once
 
 #include "photoscene/align/align.hpp"
+#include "photoscene/align/pose.hpp"
 #include "photoscene/align/view_alignment.hpp"

@@ -1,7 +1,8 @@
 // Wavefront OBJ through tinyobjloader: positions, normals, texture coordinates and `usemtl`
 // material parts. Polygons with more than three corners are triangulated (ear clipping in the
 // polygon's plane). Faces without `usemtl` belong to the part "default". `mtllib` is ignored:
-// a part is its `usemtl` name, whatever the .mtl says.
+// a part is its `usemtl` name, whatever the .mtl says. Objects are the `o` names (the `g` names
+// in a file without `o` lines): the rigid pieces whose pose may be refined (align/pose.hpp).
 #pragma once
 
 #include <array>
@@ -31,6 +32,8 @@ struct ObjMesh {
   std::vector<int> triangleMaterial;              ///< index into materialNames, per triangle
   std::vector<int> triangleLine;                  ///< 1-based line of the source face
   std::vector<std::string> materialNames;         ///< `usemtl` names, in order of first use
+  std::vector<int> triangleObject;                ///< index into objectNames, -1: before any
+  std::vector<std::string> objectNames;           ///< `o` (else `g`) names, in file order
   int polygonsTriangulated = 0;                   ///< faces with more than 3 corners
 };
 
@@ -49,7 +52,8 @@ struct ObjLimits {
 /// is read).
 ObjMesh readObj(const fs::path& path, const ObjLimits& limits = {});
 
-/// Writes an OBJ (one `usemtl` group per material in triangle order), atomically.
+/// Writes an OBJ (one `usemtl` group per material in triangle order, an `o` line where the object
+/// changes), atomically.
 void writeObj(const fs::path& path, const ObjMesh& mesh);
 
 }  // namespace ps::io

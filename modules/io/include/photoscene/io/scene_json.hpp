@@ -83,6 +83,9 @@ struct PartDesc {
 struct OptionsDesc {
   std::string preset = "balanced";  ///< fast | balanced | paper
   uint64_t seed = 0;
+  /// `refine_poses`: move each piece of furniture (an OBJ object) onto the pinned labels of the
+  /// views before anything else (align/pose.hpp); false keeps the geometry as given
+  bool refinePoses = true;
 };
 
 struct SceneDesc {
