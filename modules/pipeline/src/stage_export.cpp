@@ -239,11 +239,39 @@ nlohmann::json writeRecoveredLights(const Context& ctx, const Scene& scene, cons
   return lights;
 }
 
+// poses.json: what the poses stage did to each object it fitted (absent where it did not run)
+void writePoses(const Context& ctx, const Scene& scene, const fs::path& out) {
+  if (ctx.poses.empty()) {
+    fs::remove(out / "poses.json");  // a previous run's
+    return;
+  }
+  nlohmann::json objects = nlohmann::json::array();
+  for (const PoseFit& f : ctx.poses) {
+    const Vec3f& s = f.pose.shift;
+    const Vec3f& p = f.pose.pivot;
+    objects.push_back({{"object", scene.mesh.objectNames.at(f.object)},
+                       {"moved", !f.pose.isIdentity()},
+                       {"shift", {s.x(), s.y(), s.z()}},
+                       {"yaw_deg", f.pose.yaw * 180 / M_PI},
+                       {"scale", f.pose.scale},
+                       {"pivot", {p.x(), p.y(), p.z()}},
+                       {"labelled_pixels", f.pixels},
+                       {"mislabelled_before", f.mismatchBefore},
+                       {"mislabelled_after", f.mismatchAfter}});
+  }
+  io::writeJsonFile(out / "poses.json",
+                    {{"about",
+                      "objects moved onto the views' labels: p' = pivot + shift + scale R(yaw) "
+                      "(p - pivot), R about scene.json up; geometry/ holds the moved OBJ"},
+                     {"objects", objects}});
+}
+
 // lights.json and the scene.json of the twin
 void writeSceneFiles(const Context& ctx, const Reads& in, const fs::path& out) {
   const Scene& scene = in.wholeScene();
   nlohmann::json j = copyInputs(scene, ctx.poses, out);
   j["lights"] = writeRecoveredLights(ctx, scene, out);
+  writePoses(ctx, scene, out);
   io::writeJsonFile(out / "scene.json", j);
 }
 
@@ -289,6 +317,7 @@ class ExportStage : public Stage {
                    "OUT/textures/*",
                    "OUT/lights.json",
                    "OUT/scene.json",
+                   "OUT/poses.json",
                    "OUT/geometry (the OBJ, objects moved as `poses` found), photos, segments, "
                    "env (copies)",
                    "OUT/renders/*",
@@ -300,6 +329,7 @@ class ExportStage : public Stage {
     writeMaterials(ctx, in, out);
     writeSceneFiles(ctx, in, out);
     std::vector<fs::path> written = {out / "scene.json", out / "lights.json"};
+    if (!ctx.poses.empty()) written.push_back(out / "poses.json");
     for (const PartWork& p : ctx.parts) written.push_back(out / "materials" / (p.name + ".json"));
     writeRenders(in, out, written);
     if (in.writeGltf()) {

@@ -433,6 +433,16 @@ TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
   bool novel1 = false;
   for (const auto& n : metrics["novel"]) novel1 |= n.dump().find("novel1") != std::string::npos;
   EXPECT_TRUE(novel1) << "the held-back view is not scored";
+  // the coarse CAD's furniture moved onto both views' labels (poses.json, `check`, the report);
+  // the twin's OBJ is the moved one
+  const report::ViewsSummary views = report::summarizeViews(o.out);
+  ASSERT_EQ(views.objects.size(), 5u);
+  for (const auto& b : views.objects) {
+    EXPECT_TRUE(b.moved) << b.name;
+    EXPECT_LT(b.after, b.before) << b.name;
+  }
+  EXPECT_NE(report::viewsText(views).find("object chair_2"), std::string::npos);
+  EXPECT_NE(io::readTextFile(o.out / "geometry/room.obj"), io::readTextFile(room / "room.obj"));
   int both = 0, fittedInNovel0 = 0;
   for (const auto& e : fs::directory_iterator(o.out / "materials")) {
     const nlohmann::json m = io::readJsonFile(e.path());

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -97,8 +98,35 @@ ViewsSummary summarizeViews(const fs::path& outDir) {
         s.parts.begin(), s.parts.end(),
         [](const ViewsSummary::Part& a, const ViewsSummary::Part& b) { return a.part < b.part; });
   }
+  if (fs::exists(outDir / "poses.json")) {
+    const json j = io::readJsonFile(outDir / "poses.json");
+    for (const json& o : j.value("objects", json::array())) {
+      if (!o.is_object()) continue;
+      ViewsSummary::Object b;
+      b.name = o.value("object", std::string("?"));
+      b.moved = o.value("moved", false);
+      const json shift = o.value("shift", json::array());
+      double sq = 0;
+      for (const json& c : shift) sq += c.is_number() ? c.get<double>() * c.get<double>() : 0;
+      b.shiftCm = 100 * std::sqrt(sq);
+      b.yawDeg = number(o, "yaw_deg", 0);
+      b.scale = number(o, "scale", 1);
+      b.pixels = static_cast<int>(number(o, "labelled_pixels", 0));
+      b.before = static_cast<int>(number(o, "mislabelled_before", 0));
+      b.after = static_cast<int>(number(o, "mislabelled_after", 0));
+      s.objects.push_back(b);
+    }
+  }
   return s;
 }
+
+namespace {
+std::string moveText(const ViewsSummary::Object& o) {
+  return o.moved ? fmt::format("moved {:.1f} cm, turned {:.2f} deg, scaled {:.3f}", o.shiftCm,
+                               o.yawDeg, o.scale)
+                 : std::string("kept");
+}
+}  // namespace
 
 std::string viewsText(const ViewsSummary& s) {
   std::ostringstream o;
@@ -117,6 +145,9 @@ std::string viewsText(const ViewsSummary& s) {
     }
     o << "\n";
   }
+  for (const auto& b : s.objects)
+    o << fmt::format("object {:<26} {} (labelled pixels mislabelled {} -> {}, {} its own)\n",
+                     b.name, moveText(b), b.before, b.after, b.pixels);
   return o.str();
 }
 
@@ -151,6 +182,17 @@ std::string viewsHtml(const ViewsSummary& s) {
       }
       h << "</td></tr>\n";
     }
+    h << "</tbody></table>\n";
+  }
+  if (!s.objects.empty()) {
+    h << "<p class=\"note\">The objects of the CAD model moved onto the parts the views' labels "
+         "give them (stage poses; scene.json options.refine_poses: false keeps the geometry): "
+         "labelled pixels whose part the render gets wrong around each object, before and "
+         "after.</p>\n<table><thead><tr><th>object</th><th>pose</th><th>mislabelled "
+         "pixels</th><th>its own labelled pixels</th></tr></thead><tbody>\n";
+    for (const auto& b : s.objects)
+      h << "<tr><td>" << escape(b.name) << "</td><td>" << moveText(b) << "</td><td>" << b.before
+        << " &rarr; " << b.after << "</td><td>" << b.pixels << "</td></tr>\n";
     h << "</tbody></table>\n";
   }
   h << "</section>\n";

@@ -6,7 +6,8 @@
 //
 // Read from OUT/scene.json (views), OUT/lights.json (`exposure`, 1 where absent) and
 // OUT/materials/<part>.json (`fit.view`; `fit.views`, the optional per-view scores a run with
-// several views records: pixels, mean cosine, appearance agreement, score).
+// several views records: pixels, mean cosine, appearance agreement, score) and OUT/poses.json (the
+// objects the `poses` stage moved onto the views' labels, where it ran).
 #pragma once
 
 #include <filesystem>
@@ -35,8 +36,17 @@ struct ViewsSummary {
     int view = -1;           ///< fit.view; -1: not fitted
     std::vector<Seen> seen;  ///< fit.views (empty with one view)
   };
+  /// An object of the CAD as the poses stage left it (poses.json `objects[]`).
+  struct Object {
+    std::string name;
+    bool moved = false;
+    double shiftCm = 0, yawDeg = 0, scale = 1;
+    int pixels = 0;             ///< labelled pixels of its parts, every view
+    int before = 0, after = 0;  ///< labelled pixels the render mislabels around it
+  };
   std::vector<View> views;
   std::vector<Part> parts;  ///< sorted by name; only parts with a materials file
+  std::vector<Object> objects;  ///< in the order they were fitted; empty without poses.json
 };
 
 /// Reads the summary. Throws ps::InputError naming the file and key when OUT/scene.json is
@@ -44,7 +54,8 @@ struct ViewsSummary {
 ViewsSummary summarizeViews(const std::filesystem::path& outDir);
 
 /// One line per view (index, exposure, image, parts fitted there), then one per part with its
-/// view (and with several views, every view's score, the chosen one marked *).
+/// view (and with several views, every view's score, the chosen one marked *), then one per
+/// object the poses stage fitted.
 std::string viewsText(const ViewsSummary& summary);
 
 /// The same as an HTML section (id "view-choice").
