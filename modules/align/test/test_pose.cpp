@@ -138,6 +138,49 @@ TEST(Align_Pose, an_object_no_view_labels_keeps_its_pose_and_bad_labels_are_refu
   EXPECT_THROW(fitObjectPoses(mesh, kUp, {room.object("table")}, {{cam, small}}), Exception);
 }
 
+// Movable: furniture only. A lamp panel's object (a part given as fixed), a collapsed object
+// (every vertex in one point) and an object as wide as the room stay; an object the labels show
+// on fewer than minPixels pixels (one here) keeps its pose.
+TEST(Align_Pose, only_furniture_moves_and_an_object_seen_on_one_pixel_keeps_its_pose) {
+  const io::TempDir dir;
+  std::string s = "o floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nusemtl floor\nf 1 4 3 2\n";
+  s += box("lamp", Vec3f(-0.3f, 2.4f, -0.3f), Vec3f(0.3f, 2.45f, 0.3f), 5);
+  s += box("dot", Vec3f(1, 1, 1), Vec3f(1, 1, 1), 13);
+  s += box("counter", Vec3f(-1.9f, 0, -1.9f), Vec3f(1.9f, 0.9f, -1.3f), 21);
+  s += box("stool", Vec3f(0.5f, 0, 0.5f), Vec3f(0.8f, 0.5f, 0.8f), 29);
+  io::writeTextFile(dir / "r.obj", s);
+  std::vector<Part> parts;
+  Mesh mesh = meshFromObj(io::readObj(dir / "r.obj"), &parts, kUp);
+  auto id = [&](const std::string& name) {
+    return static_cast<int>(std::find(mesh.objectNames.begin(), mesh.objectNames.end(), name) -
+                            mesh.objectNames.begin());
+  };
+  int lampPart = -1;
+  for (const Part& p : parts)
+    if (p.name == "lamp") lampPart = p.id;
+  EXPECT_EQ(movableObjects(mesh, kUp, {lampPart}), (std::vector<int>{id("stool")}));
+  EXPECT_EQ(movableObjects(mesh, kUp, {}), (std::vector<int>{id("lamp"), id("stool")}));
+  // the stool labelled on one pixel only
+  const Camera cam = camera(Vec3d(0.3, 1.6, 2.8));
+  cv::Mat l = labels(mesh, cam);
+  int stoolPart = -1;
+  for (const Part& p : parts)
+    if (p.name == "stool") stoolPart = p.id;
+  bool first = true;
+  for (int& v : cv::Mat_<int>(l))
+    if (v == stoolPart) {
+      if (!first) v = -1;
+      first = false;
+    }
+  ASSERT_FALSE(first) << "the stool is not in view";
+  const Mesh before = mesh;
+  const std::vector<PoseFit> fits = fitObjectPoses(mesh, kUp, {id("stool")}, {{cam, l}});
+  ASSERT_EQ(fits.size(), 1u);
+  EXPECT_EQ(fits[0].pixels, 1);
+  EXPECT_TRUE(fits[0].pose.isIdentity());
+  EXPECT_EQ(largestVertexError(mesh, before, id("stool")), 0.0f);
+}
+
 // The twin's OBJ is the input OBJ moved by the same poses: read back it is the moved mesh, and a
 // vertex the object shares with another stays where the other needs it.
 TEST(Align_Pose, the_moved_obj_reads_back_as_the_moved_mesh_and_shared_vertices_are_split) {
