@@ -50,6 +50,29 @@ TEST(Cli, check_accepts_a_valid_scene) {
   EXPECT_TRUE(contains(r.output, "part walls")) << r.output;
 }
 
+// `check` says which of the OBJ's objects the poses stage may move (the furniture, not the room's
+// shell, lamps or window), and that options.refine_poses: false turns it off.
+TEST(Cli, check_lists_the_objects_the_poses_stage_may_move) {
+  const fs::path room = fs::path(PS_SHARED_DATA_DIR) / "examples/blender-room";
+  if (!fs::exists(room / "scene.json")) GTEST_SKIP() << "shared data not present: " << room;
+  Result r = runPhotoscene("check " + (room / "scene.json").string());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "objects    14 in the OBJ; movable onto the labels: sofa, table, "
+                                 "chair_1, chair_2, cabinet\n"))
+      << r.output;
+  TempDir dir;
+  nlohmann::json j = io::readJsonFile(room / "scene.json");
+  j["geometry"] = (room / "room.obj").string();
+  j["views"][0]["image"] = (room / "photos/view0.png").string();
+  j["views"][0]["segments"] = (room / "segments/view0.png").string();
+  j["lights"]["environment"]["image"] = (room / "env/forest.exr").string();
+  j["options"]["refine_poses"] = false;
+  io::writeJsonFile(dir / "scene.json", j);
+  r = runPhotoscene("check " + (dir / "scene.json").string());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "cabinet (off: options.refine_poses is false)")) << r.output;
+}
+
 TEST(Cli, help_and_version_exit_zero_and_unknown_options_exit_two) {
   EXPECT_EQ(runPhotoscene("--help").exitCode, 0);
   EXPECT_EQ(runPhotoscene("--version").exitCode, 0);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "photoscene/align/pose.hpp"
 #include "photoscene/core/memory.hpp"
 #include "photoscene/report/views_summary.hpp"
 #include "photoscene/scene.hpp"
@@ -20,6 +21,16 @@ void printSummary(const Scene& scene) {
     std::string note;
     if (p.generatedUvTriangles > 0) note = fmt::format("  (UVs generated for {} triangles)", p.generatedUvTriangles);
     fmt::print("  part {:<28} {:>7} triangles{}\n", p.name, p.triangleCount, note);
+  }
+  if (!scene.mesh.objectNames.empty()) {  // what the poses stage may move onto the labels
+    std::vector<int> fixed = scene.lights.emittingParts();
+    for (int p : scene.lights.openingParts()) fixed.push_back(p);
+    std::string movable;
+    for (int o : movableObjects(scene.mesh, scene.up, fixed))
+      movable += (movable.empty() ? "" : ", ") + scene.mesh.objectNames[o];
+    fmt::print("objects    {} in the OBJ; movable onto the labels: {}{}\n",
+               scene.mesh.objectNames.size(), movable.empty() ? "none" : movable,
+               scene.desc.options.refinePoses ? "" : " (off: options.refine_poses is false)");
   }
   for (size_t i = 0; i < scene.views.size(); ++i) {
     const View& v = scene.views[i];

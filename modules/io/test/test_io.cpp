@@ -311,6 +311,7 @@ TEST(Io_SceneJson, bad_input_names_file_key_and_expectation) {
       {"no views", "\"views\": [{", "\"views\": [], \"x\": [{", "views: expected at least one view"},
       {"segment key", "{\"3\": \"floor\"}", "{\"three\": \"floor\"}", "segment_parts.three: expected a region value"},
       {"preset", "\"fast\"", "\"fastest\"", "options.preset: expected \"fast\", \"balanced\" or \"paper\""},
+      {"refine_poses", "\"seed\": 7", "\"seed\": 7, \"refine_poses\": \"yes\"", "options.refine_poses: expected"},
       {"albedo range", "[0.02, 0.02, 0.02]", "[2, 0.02, 0.02]", "parts.tv.fixed.albedo: expected three numbers in [0, 1]"},
       {"light", "{\"part\": \"lamp\"}", "{\"lamp\": 1}", "lights.area[0]: expected \"part\""},
       {"fov", "\"fov_y_deg\": 60", "\"fov_y_deg\": 0", "views[1].camera.fov_y_deg: expected a vertical field of view"},
