@@ -28,9 +28,7 @@ int main(int argc, char** argv) {
       const ps::Camera cam = v.camera.resized(w, h);
       views.push_back({cam, ps::pinnedPartLabels(v.segments, v.segmentParts, {w, h})});
     }
-    std::vector<int> fixed = scene.lights.emittingParts();
-    for (int p : scene.lights.openingParts()) fixed.push_back(p);
-    const std::vector<int> objects = ps::movableObjects(scene.mesh, scene.up, fixed);
+    const std::vector<int> objects = ps::movableObjects(scene);  // not the lamps or windows
     ps::Timer timer;
     const std::vector<ps::PoseFit> fits = ps::fitObjectPoses(scene.mesh, scene.up, objects, views);
     std::printf("%-12s %7s %9s %9s %6s %9s %8s %7s\n", "object", "pixels", "mismatch", "after",

@@ -23,10 +23,8 @@ void printSummary(const Scene& scene) {
     fmt::print("  part {:<28} {:>7} triangles{}\n", p.name, p.triangleCount, note);
   }
   if (!scene.mesh.objectNames.empty()) {  // what the poses stage may move onto the labels
-    std::vector<int> fixed = scene.lights.emittingParts();
-    for (int p : scene.lights.openingParts()) fixed.push_back(p);
     std::string movable;
-    for (int o : movableObjects(scene.mesh, scene.up, fixed))
+    for (int o : movableObjects(scene))
       movable += (movable.empty() ? "" : ", ") + scene.mesh.objectNames[o];
     fmt::print("objects    {} in the OBJ; movable onto the labels: {}{}\n",
                scene.mesh.objectNames.size(), movable.empty() ? "none" : movable,

@@ -190,6 +190,12 @@ std::vector<int> movableObjects(const Mesh& mesh, const Vec3f& up,
   return out;
 }
 
+std::vector<int> movableObjects(const Scene& scene) {
+  std::vector<int> fixed = scene.lights.emittingParts();
+  for (int p : scene.lights.openingParts()) fixed.push_back(p);
+  return movableObjects(scene.mesh, scene.up, fixed);
+}
+
 cv::Mat pinnedPartLabels(const cv::Mat& segments, const std::map<int, int>& segmentParts,
                          cv::Size size) {
   cv::Mat labels(segments.size(), CV_32SC1, cv::Scalar(-1));

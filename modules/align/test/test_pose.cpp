@@ -234,9 +234,7 @@ TEST(Align_Pose, blender_room_furniture_returns_to_the_rendered_geometry_with_tw
     const Camera small = cam.resized(320, 240);
     views.push_back({small, pinnedPartLabels(segments, labelToPart, {320, 240})});
   }
-  std::vector<int> fixed = scene.lights.emittingParts();
-  for (int p : scene.lights.openingParts()) fixed.push_back(p);
-  const std::vector<int> objects = movableObjects(scene.mesh, scene.up, fixed);
+  const std::vector<int> objects = movableObjects(scene);
   std::vector<std::string> names;
   for (int o : objects) names.push_back(scene.mesh.objectNames[o]);
   EXPECT_EQ(names, (std::vector<std::string>{"sofa", "table", "chair_1", "chair_2", "cabinet"}));

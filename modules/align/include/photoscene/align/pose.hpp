@@ -20,6 +20,7 @@
 
 #include "photoscene/scene/camera.hpp"
 #include "photoscene/scene/mesh.hpp"
+#include "photoscene/scene/scene.hpp"
 
 namespace ps {
 
@@ -59,6 +60,8 @@ struct PoseFit {
 /// (emitters, windows: their placement is given).
 std::vector<int> movableObjects(const Mesh& mesh, const Vec3f& up,
                                 const std::vector<int>& fixedParts);
+/// The same for a loaded scene: its lights' emitting and opening parts are the fixed ones.
+std::vector<int> movableObjects(const Scene& scene);
 
 /// The part labels of a view from its label image and the pinned regions (value -> part id);
 /// other values -1. At `size` (nearest neighbour) when given.
