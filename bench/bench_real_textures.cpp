@@ -45,6 +45,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -65,6 +66,7 @@
 #include "photoscene/pipeline/pipeline.hpp"
 #include "photoscene/raytrace.hpp"
 #include "photoscene/scene.hpp"
+#include "photoscene/select.hpp"
 #include "photoscene/core/color.hpp"
 
 namespace fs = std::filesystem;
@@ -874,6 +876,128 @@ void printConfusion(const std::vector<PartScore>& rows, const std::string& split
   }
 }
 
+// ---------------------------------------------------------------- recognition ceiling
+
+/// A material's maps at `size` texels: linear albedo and unit OpenGL normals (flat without a
+/// normal map), for the canonical patch.
+MaterialMaps loadMaps(const RealMaterial& m, int size) {
+  MaterialMaps maps;
+  cv::resize(io::readImage(m.albedo), maps.albedo, {size, size}, 0, 0, cv::INTER_AREA);
+  if (m.normal.empty()) {
+    maps.normal = cv::Mat(size, size, CV_32FC3, cv::Scalar(0, 0, 1));
+    return maps;
+  }
+  cv::Mat n = io::readDataImage(m.normal);
+  if (n.channels() == 1) cv::cvtColor(n, n, cv::COLOR_GRAY2RGB);
+  cv::resize(n, n, {size, size}, 0, 0, cv::INTER_AREA);
+  maps.normal = n * 2.0 - 1.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      cv::Vec3f& v = maps.normal.at<cv::Vec3f>(y, x);
+      if (m.normalDirectX) v[1] = -v[1];
+      v[2] = std::max(v[2], 1e-3f);
+      v /= static_cast<float>(cv::norm(v));
+    }
+  return maps;
+}
+
+/// How far the texture key can tell a photographed material's category when nothing stands in
+/// the way: each material drawn flat, frontal, evenly lit and noise-free (the bank's canonical
+/// patch, 3 UV scales x 2 rotations), named (a) by the bank's category vote, summed over its
+/// renders, and (b) by the category of the nearest render of another `tune` material in the
+/// bank's indexed key space (real exemplars in place of the graphs' draws; leave-one-out on
+/// `tune`). The pipeline's category accuracy on parts in a room sits below (a), and (b) says
+/// whether real exemplars would do better. Prints a row per material and each half's accuracy,
+/// with the share of the `tune` half's most common category for chance.
+void recognitionCeiling(const std::vector<RealMaterial>& materials, const fs::path& bankCache) {
+  const GraphLibrary library = GraphLibrary::load();
+  const ExemplarBank bank = ExemplarBank::loadOrBuild(library, {}, bankCache);
+  const ExemplarBankOptions& bo = bank.options();
+  const std::vector<float> scales = {1.61f, 2.84f, 5.0f}, rotations = {0.f, 30.f};
+  struct Render {
+    size_t material;
+    std::vector<float> key;              ///< indexed (projected) key
+    eval::TextureHistograms histograms;  ///< the evaluation's texture statistics
+  };
+  std::vector<Render> renders;
+  std::vector<std::map<std::string, double>> votes(materials.size());
+  const cv::Mat mask(bo.renderSize, bo.renderSize, CV_8UC1, cv::Scalar(255));
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const MaterialMaps maps = loadMaps(materials[i], bo.mapSize);
+    for (float s : scales)
+      for (float r : rotations) {
+        const cv::Mat patch = renderCanonicalPatch(maps, bo.renderSize, s, r);
+        const std::vector<float> raw = describeTexture(patch, mask, bo);
+        const GraphChoice c = bank.select(raw);
+        double total = 0;
+        for (const GraphVote& v : c.categoryVotes) total += v.weight;
+        for (const GraphVote& v : c.categoryVotes) votes[i][v.category] += v.weight / total;
+        renders.push_back({i, bank.project(raw), eval::textureHistograms(patch, mask)});
+      }
+  }
+  auto argmax = [](const std::map<std::string, double>& m) {
+    std::string best;
+    double w = -1;
+    for (const auto& [k, v] : m)
+      if (v > w) std::tie(best, w) = std::tie(k, v);
+    return best;
+  };
+  std::map<std::string, double> tuneCategories;
+  for (const RealMaterial& m : materials)
+    if (splitOf(m.name) == "tune") tuneCategories[m.category] += 1;
+  const std::string common = argmax(tuneCategories);
+  std::printf("%-40s %-9s %-6s %-10s %-10s\n", "material", "category", "split", "bank vote",
+              "nearest tune");
+  // the category of the nearest render of another tune material, by a distance between renders
+  auto nearestTune = [&](size_t i, auto distance) {
+    std::map<std::string, double> count;
+    for (const Render& q : renders) {
+      if (q.material != i) continue;
+      double best = 1e300;
+      std::string category;
+      for (const Render& e : renders) {
+        if (e.material == i || splitOf(materials[e.material].name) != "tune") continue;
+        const double d = distance(q, e);
+        if (d < best) std::tie(best, category) = std::tie(d, materials[e.material].category);
+      }
+      count[category] += 1;
+    }
+    return argmax(count);
+  };
+  auto keyDistance = [](const Render& a, const Render& b) {
+    double d = 0;
+    for (size_t k = 0; k < a.key.size(); ++k) d += (a.key[k] - b.key[k]) * (a.key[k] - b.key[k]);
+    return d;
+  };
+  auto histogramDistance = [](const Render& a, const Render& b) {
+    return eval::textureDistance(a.histograms, b.histograms).total;
+  };
+  // split -> materials, right by the vote, by the nearest key, by the nearest histograms, chance
+  std::map<std::string, std::array<int, 5>> tally;
+  std::printf("%-40s %-9s %-6s %-10s %-10s %-10s\n", "material", "category", "split", "bank vote",
+              "near key", "near hist");
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const RealMaterial& m = materials[i];
+    const std::string vote = argmax(votes[i]), byKey = nearestTune(i, keyDistance),
+                      byHist = nearestTune(i, histogramDistance);
+    std::array<int, 5>& t = tally[splitOf(m.name)];
+    t[0]++;
+    t[1] += vote == m.category;
+    t[2] += byKey == m.category;
+    t[3] += byHist == m.category;
+    t[4] += common == m.category;
+    std::printf("%-40s %-9s %-6s %-10s %-10s %-10s\n", m.name.c_str(), m.category.c_str(),
+                splitOf(m.name).c_str(), vote.c_str(), byKey.c_str(), byHist.c_str());
+  }
+  for (const auto& [split, t] : tally)
+    std::printf(
+        "%-5s: %2d materials; category right by the bank's vote %2d (%.0f %%), by the "
+        "nearest tune material's key %2d (%.0f %%), by its texture histograms %2d (%.0f %%); "
+        "always '%s' %2d (%.0f %%)\n",
+        split.c_str(), t[0], t[1], 100.0 * t[1] / t[0], t[2], 100.0 * t[2] / t[0], t[3],
+        100.0 * t[3] / t[0], common.c_str(), t[4], 100.0 * t[4] / t[0]);
+}
+
 /// Photo crop | twin crop per part (view 0 of the warm lighting), one row per material.
 void contactSheet(const Options& o, const std::vector<std::string>& materials,
                   const std::vector<PartScore>& rows, const fs::path& file) {
@@ -970,7 +1094,7 @@ int main(int argc, char** argv) {
   o.work = "real-textures";
   std::string materialsArg, lightingsArg = "warm,window", splitArg = "all", csvArg, sheetArg;
   int limit = 0, sheetRows = 12;
-  bool check = false, force = false, cachedOnly = false, room20 = false;
+  bool check = false, force = false, cachedOnly = false, room20 = false, recognise = false;
   app.add_option("--data", o.data, "shared data folder");
   app.add_option("--work", o.work, "work folder (cases, runs, per-case results; reused)");
   app.add_option("--materials", materialsArg, "comma list of material names (default: all)");
@@ -1019,6 +1143,9 @@ int main(int argc, char** argv) {
       "--room20", room20,
       "the timing case instead: one room whose 20 parts wear 20 materials (the first 20 chosen), "
       "the first lighting only");
+  app.add_flag("--recognise", recognise,
+               "the recognition ceiling instead: each material flat and frontal, its category by "
+               "the bank's vote and by the nearest tune material (no room, no pipeline)");
   app.add_flag("--cached-only", cachedOnly,
                "report only the cases whose results are cached (run nothing)");
   CLI11_PARSE(app, argc, argv);
@@ -1073,6 +1200,11 @@ int main(int argc, char** argv) {
       for (auto& k : keyed) chosen.push_back(k.second);
     }
     if (limit > 0 && static_cast<int>(chosen.size()) > limit) chosen.resize(limit);
+    if (recognise) {
+      // every material of the manifest (tune is the reference), whatever the filters chose
+      recognitionCeiling(all, defaultBankCache());
+      return 0;
+    }
     for (const std::string& w : wanted)
       if (std::none_of(all.begin(), all.end(), [&](const RealMaterial& m) { return m.name == w; }))
         throw InputError("--materials", w, "a material name of the manifest");

@@ -16,13 +16,6 @@ namespace ps::pipeline {
 
 namespace {
 
-fs::path defaultBankCache() {
-  if (const char* d = std::getenv("PS_CACHE_DIR"); d && *d) return d;
-  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return fs::path(d) / "photoscene";
-  if (const char* d = std::getenv("HOME"); d && *d) return fs::path(d) / ".cache/photoscene";
-  return fs::temp_directory_path() / "photoscene-cache";
-}
-
 // What the user asked for, checked before anything is written: the preset, the graphs `parts`
 // forces (the texture size is checked before the scene is read).
 void checkPresetAndGraphs(const RunInputs& in) {

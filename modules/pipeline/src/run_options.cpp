@@ -1,4 +1,7 @@
 // Presets, baselines and part modes: the names a run is configured with.
+#include <cstdlib>
+#include <filesystem>
+
 #include "photoscene/core/error.hpp"
 #include "context.hpp"
 
@@ -37,6 +40,14 @@ int PipelineResult::computedUnits() const {
 
 SynthesisOptions synthesisPreset(const std::string& preset) {
   return pipeline::PresetBudget::of(preset).synthesis;
+}
+
+std::filesystem::path defaultBankCache() {
+  namespace fs = std::filesystem;
+  if (const char* d = std::getenv("PS_CACHE_DIR"); d && *d) return d;
+  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return fs::path(d) / "photoscene";
+  if (const char* d = std::getenv("HOME"); d && *d) return fs::path(d) / ".cache/photoscene";
+  return fs::temp_directory_path() / "photoscene-cache";
 }
 
 namespace pipeline {

@@ -53,8 +53,7 @@ struct PipelineOptions {
   int textureSize = 1024;                    ///< exported maps, any size >= 4
   int threads = 0;                           ///< 0 = all cores
   Baseline baseline = Baseline::None;
-  /// Exemplar-bank cache (shared between runs); empty: $PS_CACHE_DIR, else
-  /// $XDG_CACHE_HOME/photoscene, else ~/.cache/photoscene.
+  /// Exemplar-bank cache (shared between runs); empty: defaultBankCache().
   std::filesystem::path bankCache;
   bool useStageCache = true;                 ///< false: recompute every stage
   int workWidth = 320;                       ///< analysis resolution (photo scaled down to this width)
@@ -112,5 +111,10 @@ PipelineResult runPipeline(const PipelineOptions& options);
 /// The selection-by-synthesis settings a preset uses when PipelineOptions::selection is unset
 /// (fast 2 / 2 / 8, balanced 3 / 3 / 12, paper 5 / 4 / 30: shortlist / categories / steps).
 SynthesisOptions synthesisPreset(const std::string& preset);
+
+/// Where runs share the exemplar-bank cache unless PipelineOptions::bankCache says otherwise:
+/// $PS_CACHE_DIR, else $XDG_CACHE_HOME/photoscene, else ~/.cache/photoscene (else a folder in
+/// the system's temporary directory).
+std::filesystem::path defaultBankCache();
 
 }  // namespace ps
