@@ -1117,6 +1117,8 @@ int main(int argc, char** argv) {
                  "a graph's pixel RMSE at most this x homogeneous's (0: no test)");
   app.add_option("--select-contrast-ratio", synthesis.maxContrastRatio,
                  "a graph's typical local contrast at most this x the photo's (0: no test)");
+  app.add_option("--select-chroma-ratio", synthesis.maxChromaRatio,
+                 "a graph's chromaticity spread at most this x the photo's (0: no test)");
   app.add_option("--select-coarse-scale", synthesis.coarseContrastScale,
                  "the contrast test again at this many pixels per cell (0 or 1: no such test)");
   app.add_option("--select-start-draw", startDraw,
@@ -1153,8 +1155,8 @@ int main(int argc, char** argv) {
   if (!fitViews.empty()) o.fitAllViews = fitViews == "all";
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
-                           "--select-contrast-ratio", "--select-coarse-scale", "--select-start-draw",
-                           "--select-warm-fit"})
+                           "--select-contrast-ratio", "--select-chroma-ratio",
+                           "--select-coarse-scale", "--select-start-draw", "--select-warm-fit"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1165,6 +1167,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-pixel-ratio")) s.maxPixelErrorRatio = synthesis.maxPixelErrorRatio;
       if (app.count("--select-contrast-ratio")) s.maxContrastRatio = synthesis.maxContrastRatio;
       if (app.count("--select-coarse-scale")) s.coarseContrastScale = synthesis.coarseContrastScale;
+      if (app.count("--select-chroma-ratio")) s.maxChromaRatio = synthesis.maxChromaRatio;
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
       o.selection = s;

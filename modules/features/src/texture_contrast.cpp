@@ -72,4 +72,48 @@ LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
   return out;
 }
 
+ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkFloor) {
+  PS_Check(image.type() == CV_32FC3, "chromaSpread: image must be CV_32FC3");
+  PS_Check(mask.type() == CV_8UC1 && mask.size() == image.size(),
+           "chromaSpread: mask must be CV_8UC1 of the image's size");
+  PS_Check(darkFloor >= 0, "chromaSpread: darkFloor must be >= 0");
+  ChromaSpread out;
+  std::vector<cv::Vec3f> px;
+  std::vector<float> lum;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) {
+      if (!mask.at<uint8_t>(y, x)) continue;
+      const cv::Vec3f v = image.at<cv::Vec3f>(y, x);
+      bool ok = true;
+      for (int c = 0; c < 3; ++c) ok = ok && std::isfinite(v[c]) && v[c] >= 0;
+      if (!ok) continue;
+      px.push_back(v);
+      lum.push_back(luminance(v));
+    }
+  if (px.empty()) return out;
+  std::vector<float> sorted = lum;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0)) return out;
+  const double eps = 0.01 * median, floor = darkFloor * median;
+  std::vector<double> rg, bg;
+  for (size_t i = 0; i < px.size(); ++i) {
+    if (lum[i] < floor) continue;
+    rg.push_back(std::log((px[i][0] + eps) / (px[i][1] + eps)));
+    bg.push_back(std::log((px[i][2] + eps) / (px[i][1] + eps)));
+  }
+  if (rg.empty()) return out;
+  auto range = [](std::vector<double>& v) {
+    auto at = [&](double q) {
+      const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
+      return v[i];
+    };
+    return at(0.9) - at(0.1);
+  };
+  out.pixels = static_cast<int>(rg.size());
+  out.spread = std::hypot(range(rg), range(bg));
+  return out;
+}
+
 }  // namespace ps

@@ -128,5 +128,41 @@ TEST(Features_Contrast, finite_on_black_saturated_non_finite_and_tiny_regions) {
   EXPECT_THROW(typicalLocalContrast(cv::Mat(kSize, CV_32FC1), mask), Exception);
 }
 
+TEST(Features_Contrast, chroma_spread_counts_colours_whatever_the_lights_colour) {
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  // a white surface with fine grain (a painted chair, a fridge) and a small red tag on it
+  cv::Mat white = flat(0.7f) + (noise(kSize, 1.0, 21) - flat()) * 0.1;
+  cv::rectangle(white, cv::Rect(70, 50, 6, 8), cv::Scalar(0.6, 0.05, 0.05), cv::FILLED);
+  // blue and orange tiles of the same mean level
+  cv::Mat tiles(kSize, CV_32FC3);
+  for (int y = 0; y < kSize.height; ++y)
+    for (int x = 0; x < kSize.width; ++x)
+      tiles.at<cv::Vec3f>(y, x) =
+          ((x / 8 + y / 8) & 1) ? cv::Vec3f(0.8f, 0.45f, 0.15f) : cv::Vec3f(0.15f, 0.35f, 0.7f);
+  const ChromaSpread w = chromaSpread(white, mask), t = chromaSpread(tiles, mask);
+  std::printf("chroma spread: white with a tag %.4f, blue and orange tiles %.4f\n", w.spread,
+              t.spread);
+  EXPECT_GT(w.pixels, 8000);
+  EXPECT_LT(w.spread, 0.05);  // the tag is under a tenth of the pixels: the 10-90 range skips it
+  EXPECT_GT(t.spread, 2.0);   // log(0.8 / 0.45) - log(0.15 / 0.35), and more in blue
+  // a warm light (per-channel scale) and another level move every log chromaticity alike
+  cv::Mat warm;
+  cv::multiply(tiles, cv::Scalar(1.6, 1.0, 0.5), warm);
+  EXPECT_NEAR(chromaSpread(warm * 3.0, mask).spread, t.spread, 0.02 * t.spread);
+  // black, non-finite and negative pixels, an empty mask: finite, nothing counted from them
+  cv::Mat bad = tiles.clone();
+  bad.at<cv::Vec3f>(60, 80) = cv::Vec3f(std::numeric_limits<float>::quiet_NaN(),
+                                        std::numeric_limits<float>::infinity(), -1.0f);
+  EXPECT_TRUE(std::isfinite(chromaSpread(bad, mask).spread));
+  EXPECT_EQ(chromaSpread(flat(0.0f), mask).pixels, 0);
+  EXPECT_EQ(chromaSpread(tiles, cv::Mat(cv::Mat::zeros(kSize, CV_8UC1))).pixels, 0);
+  cv::Mat one = cv::Mat::zeros(kSize, CV_8UC1);
+  one.at<uint8_t>(60, 80) = 255;
+  const ChromaSpread o = chromaSpread(tiles, one);
+  EXPECT_EQ(o.pixels, 1);
+  EXPECT_EQ(o.spread, 0.0);
+  EXPECT_THROW(chromaSpread(cv::Mat(kSize, CV_32FC1), mask), Exception);
+}
+
 }  // namespace
 }  // namespace ps

@@ -116,11 +116,14 @@ struct PartWork {
     double vote = 0, loss = 0, seconds = 0;
     double pixelRmse = 0, contrast = 0;  ///< its render's masked RMSE and typical local contrast
     double coarseContrast = 0;  ///< the typical local contrast at the coarse scale (synthesis)
-    bool qualifies = true;  ///< passed the pixel-error and contrast tests (SynthesisFinalist)
+    double chroma = 0;          ///< its render's chromaticity spread (synthesis)
+    bool qualifies =
+        true;  ///< passed the pixel-error, contrast and colour tests (SynthesisFinalist)
   };
   std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first
   double photoContrast = 0;  ///< the photo's typical local contrast over the part (synthesis)
   double photoCoarseContrast = 0;  ///< the same at the coarse scale
+  double photoChroma = 0;          ///< the photo's chromaticity spread over the part
   /// the graph whose full fit was rejected for more structure than the photo shows (fit), else
   /// empty
   std::string textureRejected;

@@ -120,6 +120,7 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.maxPixelErrorRatio)
           .add(s.maxContrastRatio)
           .add(s.coarseContrastScale)
+          .add(s.maxChromaRatio)
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit);
     } else {

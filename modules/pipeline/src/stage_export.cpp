@@ -160,11 +160,13 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
                                            {"pixel_rmse", f.pixelRmse},
                                            {"contrast", f.contrast},
                                            {"contrast_coarse", f.coarseContrast},
+                                           {"chroma_spread", f.chroma},
                                            {"qualifies", f.qualifies},
                                            {"seconds", f.seconds}});
       if (!p.finalists.empty()) {
         m.fitExtra["photo_contrast"] = p.photoContrast;
         m.fitExtra["photo_contrast_coarse"] = p.photoCoarseContrast;
+        m.fitExtra["photo_chroma_spread"] = p.photoChroma;
         // the cell size of the `_coarse` contrasts (pixels a side), for whoever reads them
         if (p.photoCoarseContrast > 0)
           m.fitExtra["coarse_contrast_scale"] = in.synthesisOptions().coarseContrastScale;

@@ -26,8 +26,9 @@ namespace {
 // texture that fails selection's pixel-error or contrast test is rejected for the homogeneous
 // material (PartWork::textureRejected); 11 = a homogeneous albedo matches the photo's mean with
 // the render clipped where an integer-coded photo clips (PartView::clip); 12 = the texture tests
-// also at 2 x 2 cells (SynthesisOptions::coarseContrastScale).
-constexpr uint64_t kFitVersion = 12;
+// also at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 13 = and the colour test
+// (SynthesisOptions::maxChromaRatio).
+constexpr uint64_t kFitVersion = 13;
 
 class FitStage : public Stage {
  public:
@@ -75,17 +76,18 @@ class FitStage : public Stage {
     // maxContrastRatio x the photo's typical local contrast, is not the photo's texture. The
     // full fit can drift there from a short fit that passed.
     const SynthesisOptions selection = in.synthesisOptions();
-    if (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0) {
+    if (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0 ||
+        selection.maxChromaRatio > 0) {
       const PartFitResult flat = homogeneousPartFit(in.library(), geo, photo, target, o);
       const TextureEvidence e = textureEvidence(r.render, flat.render, photo, geo, selection);
       if (!e.ok()) {
         spdlog::info(
             "fit {}: {} rejected for the homogeneous material: pixel RMSE {:.4f} against its "
             "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f} ({:.3f} against "
-            "{:.3f} over {} x {} cells)",
+            "{:.3f} over {} x {} cells), chromaticity spread {:.3f} against the photo's {:.3f}",
             p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast,
             e.coarseContrast, e.photoCoarseContrast, selection.coarseContrastScale,
-            selection.coarseContrastScale);
+            selection.coarseContrastScale, e.chroma, e.photoChroma);
         p.textureRejected = p.graph;
         p.values.clear();
         p.mode = PartMode::Homogeneous;

@@ -35,8 +35,9 @@ class SelectStage : public Stage {
     // textured finalist that passes both tests is the one weighed against homogeneous; 9: the
     // faces of a part brought to one level before the vote (preparePartTexture), and the
     // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 10: a
-    // part's size for the small-part rule is its interior (interiorPixels), not its pixel count
-    decl.version = 10;
+    // part's size for the small-part rule is its interior (interiorPixels), not its pixel count;
+    // 11: a textured finalist's chromaticity spread at most maxChromaRatio x the photo's
+    decl.version = 11;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -50,7 +51,7 @@ class SelectStage : public Stage {
     p.runnersUp.clear();
     p.candidates.clear();
     p.finalists.clear();
-    p.photoContrast = p.photoCoarseContrast = 0;
+    p.photoContrast = p.photoCoarseContrast = p.photoChroma = 0;
     p.startValues.clear();
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
@@ -100,10 +101,10 @@ class SelectStage : public Stage {
           if (!s.graph.empty()) p.graph = s.graph;
           p.photoContrast = s.photoContrast;
           p.photoCoarseContrast = s.photoCoarseContrast;
+          p.photoChroma = s.photoChroma;
           for (const SynthesisFinalist& f : s.finalists) {
-            p.finalists.push_back(
-                {f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast,
-                 f.coarseContrast, f.qualifies});
+            p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse,
+                                   f.contrast, f.coarseContrast, f.chroma, f.qualifies});
             // the fit goes on from the winner's short fit instead of starting over
             if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
                 p.startValues.empty()) {
@@ -144,12 +145,14 @@ class SelectStage : public Stage {
     for (const PartWork::Finalist& f : p.finalists) {
       a.putString(f.graph);
       a.putString(f.category);
-      for (double x : {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.coarseContrast})
+      for (double x :
+           {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.coarseContrast, f.chroma})
         a.put(x);
       a.put<uint8_t>(f.qualifies ? 1 : 0);
     }
     a.put(p.photoContrast);
     a.put(p.photoCoarseContrast);
+    a.put(p.photoChroma);
     a.putVector(p.startValues);
     for (float f : {p.startUv.rotation, p.startUv.logScale, p.startUv.offset.x(),
                     p.startUv.offset.y()})
@@ -179,10 +182,12 @@ class SelectStage : public Stage {
       f.pixelRmse = a.get<double>();
       f.contrast = a.get<double>();
       f.coarseContrast = a.get<double>();
+      f.chroma = a.get<double>();
       f.qualifies = a.get<uint8_t>() != 0;
     }
     p.photoContrast = a.get<double>();
     p.photoCoarseContrast = a.get<double>();
+    p.photoChroma = a.get<double>();
     p.startValues = a.getVector<float>();
     p.startUv.rotation = a.get<float>();
     p.startUv.logScale = a.get<float>();

@@ -25,12 +25,15 @@ cv::Mat maskOf(const PartGeometry& geometry, cv::Size size) {
 }
 
 /// Typical local contrast at full resolution and at the coarse scale (none where the options
-/// make no contrast test, or no coarse one).
+/// make no contrast test, or no coarse one), and the chromaticity spread (none without a chroma
+/// test).
 struct Contrasts {
   LocalContrast fine, coarse;
+  ChromaSpread chroma;
 };
 Contrasts contrastsOf(const cv::Mat& image, const cv::Mat& mask, const SynthesisOptions& options) {
   Contrasts c;
+  if (options.maxChromaRatio > 0) c.chroma = chromaSpread(image, mask);
   if (options.maxContrastRatio <= 0) return c;
   c.fine = typicalLocalContrast(image, mask);
   if (options.coarseContrastScale > 1) {
@@ -56,6 +59,10 @@ TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
   e.photoCoarseContrast = photo.coarse.median;
   e.photoCoarsePixels = photo.coarse.pixels;
   e.flatCoarseContrast = flat.coarse.median;  // 0 without a flat render (Contrasts{})
+  e.chroma = render.chroma.spread;
+  e.photoChroma = photo.chroma.spread;
+  e.photoChromaPixels = photo.chroma.pixels;
+  e.flatChroma = flat.chroma.spread;
   e.judge(options);
   return e;
 }
@@ -106,6 +113,10 @@ void TextureEvidence::judge(const SynthesisOptions& options) {
         0.0, coarseContrast * coarseContrast - flatCoarseContrast * flatCoarseContrast));
     contrastOk = contrastOk && texture <= options.maxContrastRatio * photoCoarseContrast;
   }
+  // no more colours than the photo shows, the flat render's own (its light's) taken off
+  const double colours = std::sqrt(std::max(0.0, chroma * chroma - flatChroma * flatChroma));
+  chromaOk = options.maxChromaRatio <= 0 || photoChromaPixels < kMinContrastPixels ||
+             colours <= options.maxChromaRatio * photoChroma;
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
@@ -136,6 +147,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "maxContrastRatio must be >= 0, got " << maxContrastRatio;
   else if (coarseContrastScale < 0)
     os << "coarseContrastScale must be >= 0, got " << coarseContrastScale;
+  else if (!(maxChromaRatio >= 0))
+    os << "maxChromaRatio must be >= 0, got " << maxChromaRatio;
   if (error) *error = os.str();
   return os.str().empty();
 }
@@ -196,6 +209,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   const Contrasts photoContrast = contrastsOf(photo, partMask, options);
   out.photoContrast = photoContrast.fine.median;
   out.photoCoarseContrast = photoContrast.coarse.median;
+  out.photoChroma = photoContrast.chroma.spread;
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
     PartFitOptions o = fit;
@@ -213,6 +227,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     const Contrasts c = contrastsOf(f.fit.render, partMask, options);
     f.contrast = c.fine.median;
     f.coarseContrast = c.coarse.median;
+    f.chroma = c.chroma.spread;
     f.seconds = t.seconds();
   });
   std::stable_sort(
@@ -230,6 +245,8 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     render.coarse.median = f.coarseContrast;
     flat.fine.median = homogeneous->contrast;
     flat.coarse.median = homogeneous->coarseContrast;
+    render.chroma.spread = f.chroma;
+    flat.chroma.spread = homogeneous->chroma;
     f.qualifies = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat, photoContrast,
                            options)
                       .ok();

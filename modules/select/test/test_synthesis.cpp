@@ -96,7 +96,8 @@ Part renderFloor(const MaterialMaps* maps) {
 SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
                        int shortlist, int steps = 10,
                        double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio,
-                       double maxContrastRatio = SynthesisOptions{}.maxContrastRatio) {
+                       double maxContrastRatio = SynthesisOptions{}.maxContrastRatio,
+                       double maxChromaRatio = SynthesisOptions{}.maxChromaRatio) {
   PartFitOptions fit = PartFitOptions::preset("fast");
   fit.mapSize = 64;
   SynthesisOptions o;
@@ -104,6 +105,7 @@ SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector
   o.steps = steps;
   o.maxPixelErrorRatio = maxPixelErrorRatio;
   o.maxContrastRatio = maxContrastRatio;
+  o.maxChromaRatio = maxChromaRatio;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -182,7 +184,7 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
            cv::Point(box.x + box.width * 9 / 10, box.y + box.height * 3 / 5), bright, 3);
   const std::vector<GraphVote> votes = {vote("tile_checker", "tile", 3),
                                         vote("wood_planks", "wood", 2)};
-  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0);
+  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0, 0);
   const SynthesisChoice on = choose(lib, s, votes, 2, 10, 0);
   std::printf("photo contrast %.4f; without the test: %s\n", on.photoContrast, off.graph.c_str());
   for (const SynthesisFinalist& f : on.finalists) {
@@ -305,6 +307,49 @@ TEST(Select_Synthesis, texture_evidence_at_coarser_cells_rejects_blotches_on_a_g
   bad.coarseContrastScale = -1;
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("coarseContrastScale"), std::string::npos);
+}
+
+TEST(Select_Synthesis, texture_evidence_rejects_colours_the_photo_does_not_show) {
+  // A white part with grain (a painted chair); a render with the same grain and luminance but
+  // in blue and orange patches (tile_encaustic on the SUN RGB-D chair): the contrast test passes
+  // it, the colour test does not. The same colours in the photo pass, off-register.
+  const cv::Size size(96, 72);
+  const GrainyPart part = grainyPart(size, 12, 0.04f);
+  auto coloured = [&](const cv::Mat& grey, int dx) {
+    cv::Mat out = grey.clone();
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        // blue or orange at the grey's luminance (Rec. 709 weights)
+        const bool orange = (((x + dx) / 12 + y / 12) & 1) != 0;
+        const cv::Vec3f c = orange ? cv::Vec3f(1.3f, 0.95f, 0.5f) : cv::Vec3f(0.55f, 1.0f, 1.6f);
+        const float l = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / l);
+      }
+    return out;
+  };
+  const cv::Mat tiles = coloured(part.shifted, 0);
+  const TextureEvidence e = textureEvidence(tiles, part.flat, part.photo, part.geo, {});
+  std::printf(
+      "blue and orange on a white part: chroma spread %.3f against the photo's %.3f "
+      "(pixel RMSE %.4f / flat %.4f, contrast %.3f / %.3f)\n",
+      e.chroma, e.photoChroma, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast);
+  EXPECT_TRUE(e.contrastOk);
+  EXPECT_FALSE(e.chromaOk);
+  EXPECT_FALSE(e.ok());
+  EXPECT_GT(e.photoChromaPixels, 1000);
+  // a photo of those colours: the same colours off-register pass
+  const cv::Mat photo = coloured(part.photo, 0), render = coloured(part.shifted, 6);
+  EXPECT_TRUE(textureEvidence(render, part.flat, photo, part.geo, {}).chromaOk);
+  // colours the flat render shows too (its light) are not the texture's
+  EXPECT_TRUE(textureEvidence(tiles, tiles, part.photo, part.geo, {}).chromaOk);
+  SynthesisOptions off;
+  off.maxChromaRatio = 0;
+  EXPECT_TRUE(textureEvidence(tiles, part.flat, part.photo, part.geo, off).chromaOk);
+  std::string why;
+  SynthesisOptions bad;
+  bad.maxChromaRatio = -1;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("maxChromaRatio"), std::string::npos);
 }
 
 }  // namespace

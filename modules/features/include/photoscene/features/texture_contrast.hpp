@@ -1,6 +1,6 @@
 // Typical local contrast of a masked region: how much fine structure a region shows *almost
-// everywhere*, as opposed to a few strong edges. Model selection uses it (select/synthesis.hpp):
-// "texture only where the photo shows one".
+// everywhere*, as opposed to a few strong edges; and its spread of colours (chromaSpread). Model
+// selection uses it (select/synthesis.hpp): "texture only where the photo shows one".
 //
 // The texture loss matches means of subband energies over the part (texture_loss.hpp), and a
 // mean is dominated by the strongest responses: a plain wall with a picture frame, a shelf and a
@@ -44,5 +44,19 @@ struct LocalContrast {
 /// @param mask  CV_8UC1 of the same size; may be empty or too thin (then pixels = 0)
 LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
                                    const LocalContrastOptions& options = {});
+
+/// How many colours a region holds, whatever the light's colour: the spread of its pixels'
+/// chromaticity. A white chair with a red price tag has almost none, encaustic tiles in blue and
+/// orange a lot, and a light of another colour or level moves every pixel's log chromaticity by
+/// the same amount, which a spread does not see. Per pixel c = (log(R / G), log(B / G)) (each
+/// channel plus a hundredth of the region's median luminance, so dark pixels' noise stays
+/// bounded); pixels below `darkFloor` x that median, or negative or non-finite, do not count
+/// (a clipped white pixel reads neutral, which adds no spread). The spread is the length of the
+/// vector of the two coordinates' 10-90 percentile ranges.
+struct ChromaSpread {
+  double spread = 0;  ///< 0 when no pixel counts
+  int pixels = 0;     ///< pixels counted
+};
+ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkFloor = 0.1f);
 
 }  // namespace ps

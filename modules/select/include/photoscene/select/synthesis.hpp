@@ -71,6 +71,13 @@ struct SynthesisOptions {
   /// render's contrast with the homogeneous render's taken off in quadrature,
   /// sqrt(max(0, c^2 - c_flat^2)).
   int coarseContrastScale = 2;
+  /// ... and its render's chromaticity spread (features/texture_contrast.hpp, chromaSpread: how
+  /// many colours, whatever the light's colour) must be at most this times the photo's (0: no
+  /// such test), the flat render's own spread (its incident light's colours) taken off in
+  /// quadrature. Colour is evidence the texture loss hardly weighs: on the SUN RGB-D example a
+  /// white chair went to tile_encaustic in blue and orange (the mean colour right, the loss
+  /// satisfied) and a white refrigerator to a striped rug in rainbow speckles.
+  double maxChromaRatio = 1.5;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`). Off by default, with warmStartFit: on the
@@ -93,6 +100,7 @@ struct SynthesisFinalist {
   double pixelRmse = 0;  ///< masked RMSE of its render against the photo (linear)
   double contrast = 0;   ///< typical local contrast of its render over the part (median)
   double coarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
+  double chroma = 0;          ///< chromaticity spread of its render over the part
   bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
   double seconds = 0;  ///< of the short fit
   PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
@@ -103,6 +111,7 @@ struct SynthesisChoice {
   std::vector<SynthesisFinalist> finalists;  ///< sorted by loss, lowest first
   double photoContrast = 0;  ///< typical local contrast of the photo over the part (median)
   double photoCoarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
+  double photoChroma = 0;          ///< chromaticity spread of the photo over the part
   double seconds = 0;                        ///< all short fits (wall clock)
 };
 
@@ -118,7 +127,8 @@ PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry
 /// Whether a textured render shows what the photo shows, by the model-selection tests above:
 /// its masked RMSE at most maxPixelErrorRatio x the flat (homogeneous) render's, its typical
 /// local contrast at most maxContrastRatio x the photo's (a test skipped when its ratio is 0, or
-/// when too few pixels have their whole contrast window in the part).
+/// when too few pixels have their whole contrast window in the part), its chromaticity spread at
+/// most maxChromaRatio x the photo's (skipped below kMinContrastPixels counted pixels).
 struct TextureEvidence {
   double pixelRmse = 0, flatPixelRmse = 0;  ///< linear, over the geometry's pixels
   bool hasFlat = true;                      ///< a flat render to compare the pixel error with
@@ -128,10 +138,13 @@ struct TextureEvidence {
   /// the flat render's there (taken off the render's in quadrature; 0 without a flat render)
   double coarseContrast = 0, photoCoarseContrast = 0, flatCoarseContrast = 0;
   int photoCoarsePixels = 0;
-  bool pixelsOk = true, contrastOk = true;
-  bool ok() const { return pixelsOk && contrastOk; }
-  /// Sets pixelsOk and contrastOk from the numbers above (the one place the tests are made:
-  /// chooseBySynthesis on its finalists, textureEvidence on a full fit).
+  /// chromaticity spreads: the render's, the photo's (over photoChromaPixels), the flat render's
+  double chroma = 0, photoChroma = 0, flatChroma = 0;
+  int photoChromaPixels = 0;
+  bool pixelsOk = true, contrastOk = true, chromaOk = true;
+  bool ok() const { return pixelsOk && contrastOk && chromaOk; }
+  /// Sets pixelsOk, contrastOk and chromaOk from the numbers above (the one place the tests are
+  /// made: chooseBySynthesis on its finalists, textureEvidence on a full fit).
   void judge(const SynthesisOptions& options);
 };
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
