@@ -42,7 +42,8 @@ struct ReportFinalist {
   double loss = 0;
   double contrast = 0;    ///< typical local contrast of its render (NaN: not recorded)
   double coarseContrast = 0;  ///< the same at 2 x 2 cells (NaN: not recorded)
-  bool qualifies = true;  ///< passed the pixel-error and contrast tests
+  double chroma = 0;          ///< chromaticity spread of its render (NaN: not recorded)
+  bool qualifies = true;      ///< passed the pixel-error, contrast and colour tests
   bool chosen = false;
 };
 
@@ -57,6 +58,7 @@ struct ReportPart {
   std::vector<ReportFinalist> finalists;  ///< lowest loss first (select's short fits)
   double photoContrast = 0;               ///< the photo's typical local contrast (NaN: none)
   double photoCoarseContrast = 0;         ///< the same at coarseScale cells (NaN: none)
+  double photoChroma = 0;                 ///< the photo's chromaticity spread (NaN: none)
   /// pixels a side of the cells of the coarse contrasts (fit.coarse_contrast_scale)
   int coarseScale = 2;
   std::string textureRejected;  ///< the graph whose full fit was rejected for homogeneous

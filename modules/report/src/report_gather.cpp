@@ -407,6 +407,7 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
       rf.loss = num(at(f, "loss"));
       rf.contrast = num(at(f, "contrast"));
       rf.coarseContrast = num(at(f, "contrast_coarse"));
+      rf.chroma = num(at(f, "chroma_spread"));
       if (const json* q = at(f, "qualifies"); q && q->is_boolean()) rf.qualifies = q->get<bool>();
       rf.chosen = graph && graph->is_string() && graph->get<std::string>() == rf.graph;
       p.finalists.push_back(std::move(rf));
@@ -414,6 +415,7 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
   }
   p.photoContrast = num(path(p.material, {"fit", "photo_contrast"}));
   p.photoCoarseContrast = num(path(p.material, {"fit", "photo_contrast_coarse"}));
+  p.photoChroma = num(path(p.material, {"fit", "photo_chroma_spread"}));
   // absent in folders written before the key (their scale was 2)
   if (const json* s = path(p.material, {"fit", "coarse_contrast_scale"});
       s && s->is_number_integer() && s->get<int>() > 1)

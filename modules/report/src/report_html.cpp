@@ -355,8 +355,9 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
           h << ", contrast " << fmtNum(f.contrast, 3);
           if (std::isfinite(f.coarseContrast) && f.coarseContrast > 0)
             h << " (" << fmtNum(f.coarseContrast, 3) << " at " << cells << ")";
+          if (std::isfinite(f.chroma)) h << ", colour spread " << fmtNum(f.chroma, 3);
         }
-        if (!f.qualifies) h << " (more structure or pixel error than the photo allows)";
+        if (!f.qualifies) h << " (more structure, colours or pixel error than the photo allows)";
       }
       h << ".";
       if (std::isfinite(p.photoContrast) && p.photoContrast > 0)
@@ -365,7 +366,9 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
                   ? " (" + fmtNum(p.photoCoarseContrast, 3) + " at " + cells + ")"
                   : std::string())
           << ".";
-      h << " A graph must beat the homogeneous loss by the margin and pass both tests.";
+      if (std::isfinite(p.photoChroma) && p.photoChroma > 0)
+        h << " Its colour spread: " << fmtNum(p.photoChroma, 3) << ".";
+      h << " A graph must beat the homogeneous loss by the margin and pass the tests.";
       if (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0)
         h << " At " << cells << " a graph is judged by the contrast it adds to the homogeneous"
              " render's (the incident-light grid's noise is in both).";

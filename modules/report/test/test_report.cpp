@@ -92,11 +92,13 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
         {"loss", 0.12},
         {"contrast", 0.31},
         {"contrast_coarse", 0.4},
+        {"chroma_spread", 0.9},
         {"qualifies", false}},
        {{"graph", "plaster_stucco"}, {"loss", 0.15}, {"contrast", 0.05}, {"qualifies", true}},
        {{"graph", "homogeneous"}, {"loss", 0.19}, {"contrast", 0.01}, {"qualifies", true}}});
   m["fit"]["photo_contrast"] = 0.06;
   m["fit"]["photo_contrast_coarse"] = 0.045;
+  m["fit"]["photo_chroma_spread"] = 0.2;
   io::writeJsonFile(mf, m);
   ReportOptions o;
   o.viewerDir = fakeViewer(dir);
@@ -115,9 +117,12 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
   EXPECT_TRUE(contains(cells, "score 0.5,"));
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b>"));  // the chosen one is marked
   EXPECT_TRUE(contains(cells, "\"sofa_fabric\": { \"graph\": \"tile_hexagon\" }"));
-  // why the lowest loss did not win: it failed the contrast test
-  EXPECT_TRUE(contains(cells, "tile_hexagon loss 0.12, contrast 0.31 (0.4 at 2 x 2 cells) (more "
-                              "structure or pixel error than the photo allows)"));
+  // why the lowest loss did not win: it failed the contrast test (and the colour test)
+  EXPECT_TRUE(contains(cells,
+                       "tile_hexagon loss 0.12, contrast 0.31 (0.4 at 2 x 2 cells), colour "
+                       "spread 0.9 (more structure, colours or pixel error than the photo "
+                       "allows)"));
+  EXPECT_TRUE(contains(cells, "Its colour spread: 0.2."));
   // a finalist without the coarse value (a materials file written before it) shows the rest
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15, contrast 0.05;"));
   EXPECT_TRUE(contains(cells, "typical local contrast: 0.06 (0.045 at 2 x 2 cells)."));
