@@ -27,7 +27,8 @@ namespace {
 // material (PartWork::textureRejected); 11 = a homogeneous albedo matches the photo's mean with
 // the render clipped where an integer-coded photo clips (PartView::clip); 12 = the texture tests
 // also at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 13 = and the colour test
-// (SynthesisOptions::maxChromaRatio).
+// (SynthesisOptions::maxChromaRatio), and a graph forced by `parts.<name>.graph` is kept whatever
+// the tests say.
 constexpr uint64_t kFitVersion = 13;
 
 class FitStage : public Stage {
@@ -36,7 +37,8 @@ class FitStage : public Stage {
     decl.name = "fit";
     decl.unit = Unit::Part;
     decl.version = kFitVersion;
-    decl.scene = {"views[].camera", "views[].image", "views[].color_space", "options.seed"};
+    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
+                  "options.seed"};
     decl.options = {"preset", "max_fit_iterations", "library", "work_width", "fit_views",
                     "selection"};
     decl.after = {"geometry", "align", "observe", "select", "incident0"};
@@ -51,9 +53,10 @@ class FitStage : public Stage {
   }
 
   // The graph's fit; false when cancelled. Sets *homogeneous when the fitted texture is rejected
-  // (the part is then fitted as homogeneous).
+  // (the part is then fitted as homogeneous); a graph the scene forces (`parts.<name>.graph`) is
+  // the user's choice and is kept.
   bool fitTexture(const Reads& in, PartWork& p, const PartGeometry& geo, const cv::Mat& photo,
-                  const cv::Mat& mask, bool* homogeneous) const {
+                  const cv::Mat& mask, bool forced, bool* homogeneous) const {
     PartFitOptions o = in.fitOptions();
     o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
     if (const auto cap = in.maxFitIterations()) o.maxIterations = std::min(o.maxIterations, *cap);
@@ -73,11 +76,12 @@ class FitStage : public Stage {
     // texture only where the photo shows one, judged on the full fit as select judges its short
     // fits (select/synthesis.hpp, textureEvidence): a fitted render that misses the photo's
     // pixels by more than maxPixelErrorRatio x the homogeneous material's, or shows more than
-    // maxContrastRatio x the photo's typical local contrast, is not the photo's texture. The
-    // full fit can drift there from a short fit that passed.
+    // maxContrastRatio x the photo's typical local contrast, or more than maxChromaRatio x its
+    // colour spread, is not the photo's texture. The full fit can drift there from a short fit
+    // that passed. A graph the user forced is not second-guessed.
     const SynthesisOptions selection = in.synthesisOptions();
-    if (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0 ||
-        selection.maxChromaRatio > 0) {
+    if (!forced && (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0 ||
+                    selection.maxChromaRatio > 0)) {
       const PartFitResult flat = homogeneousPartFit(in.library(), geo, photo, target, o);
       const TextureEvidence e = textureEvidence(r.render, flat.render, photo, geo, selection);
       if (!e.ok()) {
@@ -124,7 +128,9 @@ class FitStage : public Stage {
         view.gbuffer, in.camera(p.view).position().cast<float>(), view.grid, mask, p.id);
     p.textureRejected.clear();
     bool homogeneous = p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels;
-    if (!homogeneous && !fitTexture(in, p, geo, photo, mask, &homogeneous)) return false;
+    if (!homogeneous &&
+        !fitTexture(in, p, geo, photo, mask, in.partGraph(u).has_value(), &homogeneous))
+      return false;
     if (homogeneous) {
       const HomogeneousFit f =
           p.mode == PartMode::Homogeneous
