@@ -890,7 +890,7 @@ MaterialMaps loadMaps(const RealMaterial& m, int size) {
   cv::Mat n = io::readDataImage(m.normal);
   if (n.channels() == 1) cv::cvtColor(n, n, cv::COLOR_GRAY2RGB);
   cv::resize(n, n, {size, size}, 0, 0, cv::INTER_AREA);
-  maps.normal = n * 2.0 - 1.0;
+  n.convertTo(maps.normal, CV_32F, 2.0, -1.0);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       cv::Vec3f& v = maps.normal.at<cv::Vec3f>(y, x);
@@ -946,8 +946,6 @@ void recognitionCeiling(const std::vector<RealMaterial>& materials, const fs::pa
   for (const RealMaterial& m : materials)
     if (splitOf(m.name) == "tune") tuneCategories[m.category] += 1;
   const std::string common = argmax(tuneCategories);
-  std::printf("%-40s %-9s %-6s %-10s %-10s\n", "material", "category", "split", "bank vote",
-              "nearest tune");
   // the category of the nearest render of another tune material, by a distance between renders
   auto nearestTune = [&](size_t i, auto distance) {
     std::map<std::string, double> count;

@@ -11,6 +11,15 @@
 
 namespace ps {
 
+namespace {
+/// The q-quantile of v (nearest rank; reorders v). v must not be empty.
+double quantile(std::vector<double>& v, double q) {
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
+  return v[i];
+}
+}  // namespace
+
 LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
                                    const LocalContrastOptions& options) {
   PS_Check(image.type() == CV_32FC3, "typicalLocalContrast: image must be CV_32FC3");
@@ -60,15 +69,10 @@ LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
         const double var = std::max(0.0, static_cast<double>(mu2.at<float>(y, x)) - m * m);
         c.push_back(std::sqrt(var) / std::max(m, floor));
       }
-  auto quantile = [&](double q) {
-    const size_t i = std::min(c.size() - 1, static_cast<size_t>(q * (c.size() - 1) + 0.5));
-    std::nth_element(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(i), c.end());
-    return c[i];
-  };
   out.pixels = n;
-  out.q25 = quantile(0.25);
-  out.median = quantile(0.5);
-  out.q75 = quantile(0.75);
+  out.q25 = quantile(c, 0.25);
+  out.median = quantile(c, 0.5);
+  out.q75 = quantile(c, 0.75);
   return out;
 }
 
@@ -103,14 +107,7 @@ ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkF
     bg.push_back(std::log((px[i][2] + eps) / (px[i][1] + eps)));
   }
   if (rg.empty()) return out;
-  auto range = [](std::vector<double>& v) {
-    auto at = [&](double q) {
-      const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
-      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
-      return v[i];
-    };
-    return at(0.9) - at(0.1);
-  };
+  auto range = [](std::vector<double>& v) { return quantile(v, 0.9) - quantile(v, 0.1); };
   out.pixels = static_cast<int>(rg.size());
   out.spread = std::hypot(range(rg), range(bg));
   return out;

@@ -18,6 +18,12 @@ constexpr const char* kHomogeneous = "homogeneous";
 // fewer pixels with their whole contrast window in the part: its median says little
 constexpr int kMinContrastPixels = 64;
 
+/// What a textured render adds to the flat render's own amount of something (contrast, colour
+/// spread: the incident-light grid gives the flat render some), taken off in quadrature.
+double beyondFlat(double textured, double flat) {
+  return std::sqrt(std::max(0.0, textured * textured - flat * flat));
+}
+
 cv::Mat maskOf(const PartGeometry& geometry, cv::Size size) {
   cv::Mat m = cv::Mat::zeros(size, CV_8UC1);
   for (const cv::Point& q : geometry.pixels) m.at<uint8_t>(q) = 255;
@@ -109,14 +115,12 @@ void TextureEvidence::judge(const SynthesisOptions& options) {
   // grid's noise) taken off in quadrature (too few cells: no such test)
   if (options.maxContrastRatio > 0 && options.coarseContrastScale > 1 &&
       photoCoarsePixels >= kMinContrastPixels) {
-    const double texture = std::sqrt(std::max(
-        0.0, coarseContrast * coarseContrast - flatCoarseContrast * flatCoarseContrast));
-    contrastOk = contrastOk && texture <= options.maxContrastRatio * photoCoarseContrast;
+    contrastOk = contrastOk && beyondFlat(coarseContrast, flatCoarseContrast) <=
+                                   options.maxContrastRatio * photoCoarseContrast;
   }
   // no more colours than the photo shows, the flat render's own (its light's) taken off
-  const double colours = std::sqrt(std::max(0.0, chroma * chroma - flatChroma * flatChroma));
   chromaOk = options.maxChromaRatio <= 0 || photoChromaPixels < kMinContrastPixels ||
-             colours <= options.maxChromaRatio * photoChroma;
+             beyondFlat(chroma, flatChroma) <= options.maxChromaRatio * photoChroma;
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
