@@ -54,16 +54,13 @@
 #include "photoscene/eval/texture_distance.hpp"
 #include "photoscene/features/texture_loss.hpp"
 #include "photoscene/graph.hpp"
+#include "real_materials.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Material {
-  std::string name, category;
-  fs::path albedo, normal;
-  bool directx = false;
-};
+using ps::bench::RealMaterial;
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
@@ -74,57 +71,6 @@ std::vector<std::string> split(const std::string& s) {
     if (!item.empty()) out.push_back(item);
     if (b == std::string::npos) break;
     a = b + 1;
-  }
-  return out;
-}
-
-std::vector<Material> listMaterials(const fs::path& data) {
-  std::vector<Material> out;
-  const fs::path cc0 = data / "textures" / "cc0";
-  const fs::path manifest = cc0 / "manifest.json";
-  std::ifstream f(manifest);
-  if (!f) throw ps::InputError(manifest.string(), "", "cannot open the texture manifest");
-  nlohmann::json j;
-  try {
-    f >> j;
-  } catch (const std::exception& e) {
-    throw ps::InputError(manifest.string(), "", std::string("not valid JSON: ") + e.what());
-  }
-  for (const auto& e : j) {
-    Material m;
-    m.name = e.at("name").get<std::string>();
-    m.category = e.at("category").get<std::string>();
-    m.albedo = cc0 / m.name / "albedo.jpg";
-    for (const auto& k : e.at("maps"))
-      if (k == "normal") m.normal = cc0 / m.name / "normal.jpg";
-    m.directx = e.contains("normal_convention") && e["normal_convention"].is_string() &&
-                e["normal_convention"] == "directx";
-    out.push_back(m);
-  }
-  const fs::path ph = data / "textures" / "polyhaven";
-  if (fs::is_directory(ph)) {
-    std::vector<fs::path> files;
-    for (const auto& de : fs::directory_iterator(ph)) files.push_back(de.path());
-    std::sort(files.begin(), files.end());
-    for (const auto& p : files) {
-      const std::string fn = p.filename().string();
-      const std::string suffix = "_diff_1k.jpg";
-      if (fn.size() <= suffix.size() ||
-          fn.compare(fn.size() - suffix.size(), suffix.size(), suffix) != 0)
-        continue;
-      Material m;
-      const std::string stem = fn.substr(0, fn.size() - suffix.size());
-      m.name = "polyhaven_" + stem;
-      m.albedo = p;
-      if (fs::exists(ph / (stem + "_nor_gl_1k.jpg"))) m.normal = ph / (stem + "_nor_gl_1k.jpg");
-      for (const char* c :
-           {"concrete", "tile", "wood", "plaster", "stone", "brick", "metal", "fabric", "carpet"})
-        if (stem.find(c) != std::string::npos) {
-          m.category = c;
-          break;
-        }
-      if (!m.category.empty()) out.push_back(m);
-    }
   }
   return out;
 }
@@ -161,28 +107,15 @@ struct Texture {
   cv::Mat render;  // 4 VIEW x 4 VIEW, one tile
 };
 
-Texture loadTexture(const Material& m, int view) {
+Texture loadTexture(const RealMaterial& m, int view) {
   const int n = 4 * view;
   cv::Mat a = cv::imread(m.albedo.string(), cv::IMREAD_COLOR);
   if (a.empty()) throw ps::InputError(m.albedo.string(), "", "cannot read the albedo image");
   cv::cvtColor(a, a, cv::COLOR_BGR2RGB);
   cv::resize(a, a, cv::Size(n, n), 0, 0, cv::INTER_AREA);
   cv::Mat albedo = ps::srgbToLinear(a);
-  cv::Mat normal;
-  if (!m.normal.empty()) {
-    cv::Mat nm = cv::imread(m.normal.string(), cv::IMREAD_COLOR);
-    if (nm.empty()) throw ps::InputError(m.normal.string(), "", "cannot read the normal map");
-    cv::cvtColor(nm, nm, cv::COLOR_BGR2RGB);
-    cv::resize(nm, nm, cv::Size(n, n), 0, 0, cv::INTER_AREA);
-    nm.convertTo(normal, CV_32FC3, 2.0 / 255.0, -1.0);
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        cv::Vec3f& v = normal.at<cv::Vec3f>(y, x);
-        if (m.directx) v[1] = -v[1];
-        v[2] = std::max(v[2], 1e-3f);
-        v /= float(cv::norm(v));
-      }
-  }
+  const cv::Mat normal =
+      m.normal.empty() ? cv::Mat() : ps::bench::loadNormalMap(m.normal, m.normalDirectX, n);
   return {flatRender(albedo, normal)};
 }
 
@@ -326,16 +259,16 @@ int main(int argc, char** argv) {
     if (view < 64 || (view & (view - 1)))
       throw ps::InputError("--view", "", "expected a power of two >= 64");
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
-    std::vector<Material> mats = listMaterials(data);
+    std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
     if (!materialsArg.empty()) {
       const auto want = split(materialsArg);
-      std::vector<Material> keep;
+      std::vector<RealMaterial> keep;
       for (const auto& m : mats)
         if (std::find(want.begin(), want.end(), m.name) != want.end()) keep.push_back(m);
       mats = keep;
     }
     struct Row {
-      Material mat;
+      RealMaterial mat;
       double dSelf = 0;
       Fit best;
       cv::Mat texView;

@@ -68,6 +68,7 @@
 #include "photoscene/scene.hpp"
 #include "photoscene/select.hpp"
 #include "photoscene/core/color.hpp"
+#include "real_materials.hpp"
 
 namespace fs = std::filesystem;
 using namespace ps;
@@ -80,12 +81,7 @@ constexpr int kCategoryMinPixels = 2000;
 
 // ---------------------------------------------------------------- materials
 
-struct RealMaterial {
-  std::string name, category;
-  fs::path albedo, normal, roughness;  ///< empty when absent
-  bool normalDirectX = false;
-  double sizeM = 0;  ///< physical size of one map period (0: unknown)
-};
+using bench::RealMaterial;
 
 uint64_t fnv1a(const std::string& s) {
   uint64_t h = 1469598103934665603ull;
@@ -97,47 +93,6 @@ uint64_t fnv1a(const std::string& s) {
 }
 std::string splitOf(const std::string& name) {
   return fnv1a(name) % 2 == 0 ? "tune" : "check";
-}
-
-std::vector<RealMaterial> loadMaterials(const fs::path& data) {
-  std::vector<RealMaterial> out;
-  const fs::path cc0 = data / "textures/cc0";
-  const nlohmann::json manifest = io::readJsonFile(cc0 / "manifest.json");
-  for (const auto& e : manifest) {
-    RealMaterial m;
-    m.name = e.at("name").get<std::string>();
-    m.category = e.at("category").get<std::string>();
-    std::set<std::string> maps;
-    for (const auto& x : e.at("maps")) maps.insert(x.get<std::string>());
-    const fs::path dir = cc0 / m.name;
-    if (maps.count("albedo")) m.albedo = dir / "albedo.jpg";
-    if (maps.count("normal")) m.normal = dir / "normal.jpg";
-    if (maps.count("roughness")) m.roughness = dir / "roughness.jpg";
-    m.normalDirectX = e.contains("normal_convention") && e["normal_convention"].is_string() &&
-                      e["normal_convention"].get<std::string>() == "directx";
-    if (e.contains("physical_size_m") && e["physical_size_m"].is_number())
-      m.sizeM = e["physical_size_m"].get<double>();
-    if (m.albedo.empty())
-      throw InputError((cc0 / "manifest.json").string(), m.name + ".maps", "an albedo map");
-    out.push_back(m);
-  }
-  // the Poly Haven maps of the blender-room case (1k JPEG, OpenGL normals)
-  const fs::path ph = data / "textures/polyhaven";
-  const std::vector<std::pair<std::string, std::string>> extra = {
-      {"floor_long_white_tiles", "tile"},
-      {"interior_concrete_wall_001", "concrete"},
-      {"exterior_concrete_tile_facade", "concrete"}};
-  for (const auto& [base, category] : extra) {
-    if (!fs::exists(ph / (base + "_diff_1k.jpg"))) continue;
-    RealMaterial m;
-    m.name = "polyhaven1k_" + base;
-    m.category = category;
-    m.albedo = ph / (base + "_diff_1k.jpg");
-    m.normal = ph / (base + "_nor_gl_1k.jpg");
-    m.roughness = ph / (base + "_rough_1k.jpg");
-    out.push_back(m);
-  }
-  return out;
 }
 
 // ---------------------------------------------------------------- geometry
@@ -887,17 +842,7 @@ MaterialMaps loadMaps(const RealMaterial& m, int size) {
     maps.normal = cv::Mat(size, size, CV_32FC3, cv::Scalar(0, 0, 1));
     return maps;
   }
-  cv::Mat n = io::readDataImage(m.normal);
-  if (n.channels() == 1) cv::cvtColor(n, n, cv::COLOR_GRAY2RGB);
-  cv::resize(n, n, {size, size}, 0, 0, cv::INTER_AREA);
-  n.convertTo(maps.normal, CV_32F, 2.0, -1.0);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      cv::Vec3f& v = maps.normal.at<cv::Vec3f>(y, x);
-      if (m.normalDirectX) v[1] = -v[1];
-      v[2] = std::max(v[2], 1e-3f);
-      v /= static_cast<float>(cv::norm(v));
-    }
+  maps.normal = bench::loadNormalMap(m.normal, m.normalDirectX, size);
   return maps;
 }
 
@@ -1177,7 +1122,7 @@ int main(int argc, char** argv) {
   }
   try {
     ThreadLimit threads(o.threads > 0 ? o.threads : 0);
-    std::vector<RealMaterial> all = loadMaterials(o.data), chosen;
+    std::vector<RealMaterial> all = bench::listRealMaterials(o.data), chosen;
     const std::vector<std::string> wanted = splitList(materialsArg);
     for (const RealMaterial& m : all) {
       if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), m.name) == wanted.end())

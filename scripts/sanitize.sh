@@ -22,7 +22,8 @@ fi
 GENERATOR=()
 if command -v ninja >/dev/null 2>&1 && [ ! -f "$BUILD/Makefile" ]; then GENERATOR=(-G Ninja); fi
 CC=clang CXX=clang++ cmake -S . -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPS_SANITIZE=ON -DPS_BUILD_PERF=OFF >/dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPS_SANITIZE=ON -DPS_BUILD_PERF=OFF \
+  -DPS_UNITY_BUILD="${PS_UNITY_BUILD:-ON}" >/dev/null
 
 # Leaks are checked; the suppressions name third-party allocations only.
 export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1

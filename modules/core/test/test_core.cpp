@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <csignal>
 #include <filesystem>
 #include <vector>
@@ -197,6 +198,22 @@ TEST(Core_Hasher, content_changes_change_the_digest) {
   const uint64_t c = Hasher().add(std::string_view("abd")).add(1.5f).digest();
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+TEST(Core_Math, wrap_index_is_the_texel_of_a_tiling_map) {
+  // every i lands in [0, n) and i, i + n, i - n land on the same texel, across zero and far out
+  for (int n : {1, 2, 5, 64}) {
+    for (int i = -3 * n - 2; i <= 3 * n + 2; ++i) {
+      const int w = wrapIndex(i, n);
+      ASSERT_GE(w, 0) << i << " mod " << n;
+      ASSERT_LT(w, n) << i << " mod " << n;
+      EXPECT_EQ(w, wrapIndex(i + n, n));
+      EXPECT_EQ((i - w) % n, 0) << i << " mod " << n;
+    }
+  }
+  EXPECT_EQ(wrapIndex(-1, 5), 4);
+  EXPECT_EQ(wrapIndex(std::numeric_limits<int>::min(), 64), 0);
+  EXPECT_EQ(wrapIndex(std::numeric_limits<int>::max(), 64), 63);
 }
 
 TEST(Core_Math, orthonormal_basis_is_orthonormal) {

@@ -30,13 +30,6 @@ double relKeyChange(const std::vector<float>& a, const std::vector<float>& b) {
   return descriptorDistance(a, b) / std::sqrt(n);
 }
 
-cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {
-  cv::Mat out = img.clone();
-  out.forEach<cv::Vec3f>(
-      [&](cv::Vec3f& p, const int*) { p = cv::Vec3f(p[0] * s[0], p[1] * s[1], p[2] * s[2]); });
-  return out;
-}
-
 // Rescales about the center by `factor` (a texture seen 1.25x larger), keeping the size.
 cv::Mat zoom(const cv::Mat& img, double factor) {
   cv::Mat big;

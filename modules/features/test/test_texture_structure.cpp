@@ -13,13 +13,6 @@ namespace {
 
 using namespace test;  // texture_fixtures.hpp
 
-cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {
-  cv::Mat out = img.clone();
-  out.forEach<cv::Vec3f>(
-      [&](cv::Vec3f& p, const int*) { p = cv::Vec3f(p[0] * s[0], p[1] * s[1], p[2] * s[2]); });
-  return out;
-}
-
 TEST(Features_Structure, length_and_invariance_to_light_color_and_level) {
   const TextureStructureOptions o;
   EXPECT_EQ(structureKeyLength(o), 4 * 3 + 2 * 9 + 6);

@@ -11,6 +11,13 @@
 
 namespace ps::test {
 
+/// The image under a light of another colour and level: each channel times its factor.
+inline cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {
+  cv::Mat out;
+  cv::multiply(img, cv::Scalar(s[0], s[1], s[2]), out);
+  return out;
+}
+
 /// A sinusoidal grating: period in pixels, angle in degrees (x right, y down), mean 0.4.
 inline cv::Mat stripes(cv::Size size, double period, double angleDeg, double phase = 0.0,
                        cv::Vec3f tint = {1.0f, 0.9f, 0.8f}) {

@@ -164,10 +164,6 @@ inline uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
 inline float hashf(uint32_t a, uint32_t b, uint32_t c) {
   return static_cast<float>(hash3(a, b, c) >> 8) * 0x1p-24f;
 }
-inline int wrapi(int i, int n) {
-  int r = i % n;
-  return r < 0 ? r + n : r;
-}
 template <class T>
 inline T fracT(T x) {
   return x - std::floor(x);

@@ -96,7 +96,7 @@ struct PerlinOctave {
       const T u = (T(x) + T(0.5)) * scale;
       const T f0 = std::floor(u);
       const T f = u - f0;
-      ix0[x] = wrapi(static_cast<int>(f0), px);
+      ix0[x] = wrapIndex(static_cast<int>(f0), px);
       ix1[x] = (ix0[x] + 1) % px;
       fx[x] = f;
       sx[x] = f * f * f * (f * (f * T(6) - T(15)) + T(10));
@@ -140,7 +140,7 @@ struct PerlinOctave {
     const T v = vCoord<T>(y, n) * T(py);
     const T fy0 = std::floor(v);
     const T fy = v - fy0;
-    const int iy0 = wrapi(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
+    const int iy0 = wrapIndex(static_cast<int>(fy0), py), iy1 = (iy0 + 1) % py;
     const T sy = fy * fy * fy * (fy * (fy * T(6) - T(15)) + T(10));
     if (r.s0.iy != iy0 || r.s1.iy != iy1) {
       if (r.s0.iy == iy1) std::swap(r.s0, r.s1);  // rows walk down: the old iy0 is the new iy1
@@ -277,12 +277,12 @@ struct ValueNoise {
         const T v = vCoord<T>(y, n) * T(p) - T(0.5);
         const T fy0 = std::floor(v);
         const T sy = smooth3(v - fy0);
-        const int iy0 = wrapi(int(fy0), p), iy1 = (iy0 + 1) % p;
+        const int iy0 = wrapIndex(int(fy0), p), iy1 = (iy0 + 1) % p;
         for (int x = 0; x < n; ++x) {
           const T u = uCoord<T>(x, n) * T(p) - T(0.5);
           const T fx0 = std::floor(u);
           const T sx = smooth3(u - fx0);
-          const int ix0 = wrapi(int(fx0), p), ix1 = (ix0 + 1) % p;
+          const int ix0 = wrapIndex(int(fx0), p), ix1 = (ix0 + 1) % p;
           const uint32_t sd = seed * 977u + k;
           const T h00 = hashf(ix0, iy0, sd), h10 = hashf(ix1, iy0, sd);
           const T h01 = hashf(ix0, iy1, sd), h11 = hashf(ix1, iy1, sd);
@@ -352,7 +352,7 @@ struct Voronoi {
       h.resize(size_t(3) * (s + 2) * 2);
       for (int j = -1; j <= 1; ++j)
         for (int qx = -1; qx <= s; ++qx) {
-          const int wx = wrapi(qx, s), wy = wrapi(cy + j, s);
+          const int wx = wrapIndex(qx, s), wy = wrapIndex(cy + j, s);
           T* o = &h[(size_t(j + 1) * (s + 2) + qx + 1) * 2];
           o[0] = hashf(wx, wy, seed), o[1] = hashf(wx, wy, seed + 1);
         }
@@ -367,7 +367,7 @@ struct Voronoi {
     for (int j = -1; j <= 1; ++j)
       for (int i = -1; i <= 1; ++i) {
         const int qx = cx + i, qy = cy + j;
-        const int wx = wrapi(qx, s), wy = wrapi(qy, s);
+        const int wx = wrapIndex(qx, s), wy = wrapIndex(qy, s);
         T hx, hy;
         if (tab && qx >= -1 && qx <= s) {
           const T* t = &tab->h[(size_t(j + 1) * (s + 2) + qx + 1) * 2];
@@ -785,7 +785,7 @@ struct Tile {
     const T xt = uCoord<T>(x, c.n) * T(C) + ro * g.dShift;
     const T cf = std::floor(xt);
     const T fx = xt - cf;
-    g.col = wrapi(int(cf), C);
+    g.col = wrapIndex(int(cf), C);
     g.aspect = T(R) / T(C);
     g.sgn = fx < T(0.5) ? T(1) : T(-1);
     g.dx = std::min(fx, T(1) - fx) * g.aspect;
@@ -898,12 +898,12 @@ struct Herringbone {
     }
     int a = (ox + oy) / 2;
     b = (ox - oy) / (2 * L);
-    int bb = wrapi(b, 2 * cnt);
+    int bb = wrapIndex(b, 2 * cnt);
     if (bb >= cnt) {
       bb -= cnt;
       a -= cnt * L;
     }
-    g.a = wrapi(a, 2 * cnt * L);
+    g.a = wrapIndex(a, 2 * cnt * L);
     g.b = bb;
     return g;
   }
@@ -970,9 +970,9 @@ struct Weave {
       case 0:
         return ((i + j) & 1) == 0;
       case 1:
-        return wrapi(i + j, 4) < 2;
+        return wrapIndex(i + j, 4) < 2;
       case 2:
-        return wrapi(i + j, 4) < 3;
+        return wrapIndex(i + j, 4) < 3;
       default:
         return (((i >> 1) + (j >> 1)) & 1) == 0;
     }

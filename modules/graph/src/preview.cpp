@@ -19,7 +19,7 @@ cv::Vec3f sample3(const cv::Mat& m, float u, float v) {
   const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
   const float fx = x - x0, fy = y - y0;
   auto at = [&](int xx, int yy) {
-    xx = ((xx % n) + n) % n, yy = ((yy % m.rows) + m.rows) % m.rows;
+    xx = wrapIndex(xx, n), yy = wrapIndex(yy, m.rows);
     if (m.channels() == 1) return cv::Vec3f::all(m.at<float>(yy, xx));
     return m.at<cv::Vec3f>(yy, xx);
   };

@@ -80,8 +80,7 @@ class FitStage : public Stage {
     // colour spread, is not the photo's texture. The full fit can drift there from a short fit
     // that passed. A graph the user forced is not second-guessed.
     const SynthesisOptions selection = in.synthesisOptions();
-    if (!forced && (selection.maxPixelErrorRatio > 0 || selection.maxContrastRatio > 0 ||
-                    selection.maxChromaRatio > 0)) {
+    if (!forced && selection.anyTextureTest()) {
       const PartFitResult flat = homogeneousPartFit(in.library(), geo, photo, target, o);
       const TextureEvidence e = textureEvidence(r.render, flat.render, photo, geo, selection);
       if (!e.ok()) {

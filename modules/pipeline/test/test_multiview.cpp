@@ -19,13 +19,14 @@
 #include "photoscene/raytrace.hpp"
 #include "photoscene/report.hpp"
 #include "photoscene/scene.hpp"
+#include "sample_paths.hpp"
 
 namespace ps {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSample = fs::path(PS_SOURCE_DIR) / "samples/data/living-room";
+using test::kSample;
 
 constexpr int kWidth = 160, kHeight = 120;
 

@@ -9,13 +9,14 @@
 #include "photoscene/io.hpp"
 #include "photoscene/pipeline.hpp"
 #include "photoscene/scene.hpp"
+#include "sample_paths.hpp"
 
 namespace ps {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSample = fs::path(PS_SOURCE_DIR) / "samples/data/living-room";
+using test::kSample;
 
 // ---------------------------------------------------------------- stage cache
 

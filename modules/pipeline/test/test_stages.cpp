@@ -13,6 +13,7 @@
 #include "../src/stages.hpp"
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
+#include "sample_paths.hpp"
 
 namespace ps::pipeline {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using Pointer = nlohmann::json::json_pointer;
 
-const fs::path kSample = fs::path(PS_SOURCE_DIR) / "samples/data/living-room";
+using test::kSample;
 
 PipelineOptions sampleOptions(const fs::path& scene, const fs::path& out) {
   PipelineOptions o;

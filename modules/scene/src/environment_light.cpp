@@ -95,7 +95,7 @@ Vec3f EnvironmentLight::unitRadianceFrom(const Vec3f& dir) const {
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
   const float fx = x - x0, fy = y - y0;
   auto texel = [&](int xi, int yi) {
-    xi = ((xi % w) + w) % w;
+    xi = wrapIndex(xi, w);
     yi = clampv(yi, 0, h - 1);
     const cv::Vec3f& p = image.at<cv::Vec3f>(yi, xi);
     return Vec3f(p[0], p[1], p[2]);
@@ -155,7 +155,7 @@ void EnvironmentLight::preprocess(const LightScene& scene) {
         lum[static_cast<size_t>(y) * W + x] = l;
       }
     auto at = [&](int x, int y) {  // wrap in u, clamp in v, as radianceFrom
-      x = ((x % W) + W) % W;
+      x = wrapIndex(x, W);
       y = clampv(y, 0, H - 1);
       return lum[static_cast<size_t>(y) * W + x];
     };

@@ -31,10 +31,8 @@ FloatTexture::FloatTexture(const cv::Mat& image) {
 }
 
 Vec3f FloatTexture::texel(int x, int y) const {
-  x %= width_;
-  if (x < 0) x += width_;
-  y %= height_;
-  if (y < 0) y += height_;
+  x = wrapIndex(x, width_);
+  y = wrapIndex(y, height_);
   const float* p = data_.data() + (static_cast<size_t>(y) * width_ + x) * channels_;
   return channels_ == 3 ? Vec3f(p[0], p[1], p[2]) : Vec3f(p[0], 0.0f, 0.0f);
 }

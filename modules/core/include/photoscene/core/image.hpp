@@ -10,6 +10,9 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+
+#include "photoscene/core/math.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -50,12 +53,8 @@ inline cv::Vec3f samplePeriodic(const cv::Mat& map, float tu, float tv) {
   const float fx = x - fx0, fy = y - fy0;
   // one integer division per axis, the next texel wrapped by a comparison (the same texels as
   // two divisions per index; the exemplar bank's patch renders call this about 10^9 times)
-  auto wrap = [](int i, int size) {
-    const int r = i % size;
-    return r < 0 ? r + size : r;
-  };
-  const int x0 = wrap(static_cast<int>(fx0), n), x1 = x0 + 1 == n ? 0 : x0 + 1;
-  const int y0 = wrap(static_cast<int>(fy0), m), y1 = y0 + 1 == m ? 0 : y0 + 1;
+  const int x0 = wrapIndex(static_cast<int>(fx0), n), x1 = x0 + 1 == n ? 0 : x0 + 1;
+  const int y0 = wrapIndex(static_cast<int>(fy0), m), y1 = y0 + 1 == m ? 0 : y0 + 1;
   const cv::Vec3f* r0 = map.ptr<cv::Vec3f>(y0);
   const cv::Vec3f* r1 = map.ptr<cv::Vec3f>(y1);
   return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x1]);

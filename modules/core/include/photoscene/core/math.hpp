@@ -32,6 +32,12 @@ inline T clampv(T v, T lo, T hi) {
   return v < lo ? lo : (v > hi ? hi : v);
 }
 
+/// i wrapped into [0, n) (n > 0): the texel of a periodic (tiling) map; -1 is n - 1.
+inline int wrapIndex(int i, int n) {
+  const int r = i % n;
+  return r < 0 ? r + n : r;
+}
+
 /// True when every component of a fixed-size Eigen object is finite.
 template <typename Derived>
 inline bool allFinite(const Eigen::MatrixBase<Derived>& m) {

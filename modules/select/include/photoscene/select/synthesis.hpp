@@ -88,6 +88,10 @@ struct SynthesisOptions {
   /// The pipeline's fit goes on from the winner's short fit (its values and UV) instead of
   /// starting over from the graph's defaults.
   bool warmStartFit = false;
+  /// True when any of the pixel-error, contrast and colour tests is on (TextureEvidence::judge).
+  bool anyTextureTest() const {
+    return maxPixelErrorRatio > 0 || maxContrastRatio > 0 || maxChromaRatio > 0;
+  }
   bool IsValid(std::string* error) const;
 };
 
