@@ -437,6 +437,31 @@ void diffuseGradWeights(int n, const float* __restrict cb, const float* __restri
   for (int b = 0; b < n; ++b) lA[b] = (cb[b] > 0 ? 1.0f : 0.0f) * (w0 * l0[b] + w1 * l1[b] + w2 * l2[b]);
 }
 
+// The geometry of one sub-direction d = (dx, dy, dz) under normal n and view wo = (wx, wy, wz),
+// shared by specularWeights and specularWeightsGrad: u = wo + d, h = u / |u| (inv = 1 / |u|),
+// cI = n.d, cH = n.h, the Schlick weight fc = (1 - wo.h)^5, the cosines clamped at 0, and ok:
+// the direction counts (cI > 0, cH > 0, u not degenerate). Inlined into the vectorised loops.
+struct SubDirection {
+  float cI, cH, hl2, inv, fc, cIc, cHc;
+  bool ok;
+};
+[[gnu::always_inline]] inline SubDirection subDirection(float dx, float dy, float dz, float nx,
+                                                        float ny, float nz, float wx, float wy,
+                                                        float wz) {
+  SubDirection s;
+  s.cI = nx * dx + ny * dy + nz * dz;
+  const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
+  s.hl2 = ux * ux + uy * uy + uz * uz;
+  s.inv = 1.0f / std::sqrt(std::max(s.hl2, 1e-30f));
+  s.cH = (nx * ux + ny * uy + nz * uz) * s.inv;
+  const float woh = (wx * ux + wy * uy + wz * uz) * s.inv;
+  s.fc = shading::schlickWeight(woh);
+  s.cHc = std::max(s.cH, 0.0f);
+  s.cIc = std::max(s.cI, 0.0f);
+  s.ok = (s.cI > 0) & (s.cH > 0) & (s.hl2 > 1e-16f);
+  return s;
+}
+
 // One sub-direction d of the specular sum (the layer's GGX, written branch-free so the loops over
 // directions vectorise): with u = wo + d, h = u / |u|, cI = n.d, cH = n.h, Fc = (1 - wo.h)^5,
 // w1 = D(cH) G1(cI) (1 - Fc), w2 = D(cH) G1(cI) Fc, zero where cI <= 0 or cH <= 0.
@@ -445,19 +470,11 @@ void specularWeights(int Q, const float* __restrict sx, const float* __restrict 
                      float nx, float ny, float nz, float wx, float wy, float wz, float a2,
                      float* __restrict w1, float* __restrict w2) {
   for (int q = 0; q < Q; ++q) {
-    const float dx = sx[q], dy = sy[q], dz = sz[q];
-    const float cI = nx * dx + ny * dy + nz * dz;
-    const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
-    const float hl2 = ux * ux + uy * uy + uz * uz;
-    const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
-    const float cH = (nx * ux + ny * uy + nz * uz) * inv;
-    const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-    const float fc = shading::schlickWeight(woh);
-    const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-    const float D = shading::ggxD(cHc, a2);
-    const float G = shading::smithG1(cIc, a2);
-    const bool ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
-    const float DG = D * G * (ok ? 1.0f : 0.0f);
+    const SubDirection d = subDirection(sx[q], sy[q], sz[q], nx, ny, nz, wx, wy, wz);
+    const float fc = d.fc;
+    const float D = shading::ggxD(d.cHc, a2);
+    const float G = shading::smithG1(d.cIc, a2);
+    const float DG = D * G * (d.ok ? 1.0f : 0.0f);
     w1[q] = DG * (1 - fc);
     w2[q] = DG * fc;
   }
@@ -472,25 +489,18 @@ void specularWeightsGrad(int Q, const float* __restrict sx, const float* __restr
                          const float* __restrict lFq, const float* __restrict lgq, float* __restrict w1,
                          float* __restrict w2, float* __restrict ca, float* __restrict cc, float* __restrict ce) {
   for (int q = 0; q < Q; ++q) {
-    const float dx = sx[q], dy = sy[q], dz = sz[q];
-    const float cI = nx * dx + ny * dy + nz * dz;
-    const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
-    const float hl2 = ux * ux + uy * uy + uz * uz;
-    const float inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
-    const float cH = (nx * ux + ny * uy + nz * uz) * inv;
-    const float woh = (wx * ux + wy * uy + wz * uz) * inv;
-    const float fc = shading::schlickWeight(woh);
-    const float cHc = std::max(cH, 0.0f), cIc = std::max(cI, 0.0f);
-    const shading::TermGrad Dg = shading::ggxDGrad(cHc, alpha);
-    const shading::TermGrad Gg = shading::smithG1Grad(cIc, alpha);
+    const SubDirection d = subDirection(sx[q], sy[q], sz[q], nx, ny, nz, wx, wy, wz);
+    const float fc = d.fc;
+    const shading::TermGrad Dg = shading::ggxDGrad(d.cHc, alpha);
+    const shading::TermGrad Gg = shading::smithG1Grad(d.cIc, alpha);
     const float D = Dg.value, Ddc = Dg.dCos, Dda = Dg.dAlpha;
     const float G = Gg.value, Gdc = Gg.dCos, Gda = Gg.dAlpha;
-    const float okf = ((cI > 0) & (cH > 0) & (hl2 > 1e-16f)) ? 1.0f : 0.0f;
+    const float okf = d.ok ? 1.0f : 0.0f;
     const float DG = D * G * okf;
     w1[q] = DG * (1 - fc);
     w2[q] = DG * fc;
     const float wq = kq * (lFq[q] * (1 - fc) + lgq[q] * fc) * okf;
-    const float a = wq * Ddc * G * inv;
+    const float a = wq * Ddc * G * d.inv;
     ca[q] = a;
     cc[q] = a + wq * D * Gdc;
     ce[q] = wq * (Dda * G + D * Gda);
