@@ -19,8 +19,7 @@ std::vector<RealMaterial> listRealMaterials(const fs::path& data) {
   const fs::path cc0 = data / "textures/cc0";
   const fs::path manifestFile = cc0 / "manifest.json";
   const nlohmann::json manifest = io::readJsonFile(manifestFile);
-  if (!manifest.is_array())
-    throw InputError(manifestFile.string(), "", "an array of materials");
+  if (!manifest.is_array()) throw InputError(manifestFile.string(), "", "an array of materials");
   for (size_t i = 0; i < manifest.size(); ++i) {
     const nlohmann::json& e = manifest[i];
     const std::string at = "[" + std::to_string(i) + "]";

@@ -21,8 +21,9 @@ struct RealMaterial {
 /// convention and physical size), then the 1k maps of `data`/textures/polyhaven
 /// (`<stem>_diff_1k.jpg`, `_nor_gl_1k.jpg`, `_rough_1k.jpg`; OpenGL normals) in name order, named
 /// `polyhaven1k_<stem>`, their category the first of concrete, tile, wood, plaster, stone, brick,
-/// metal, fabric, carpet in the stem (a stem with none is left out). Throws ps::InputError naming the manifest and the key when
-/// the manifest cannot be read or an entry lacks its name, category or an albedo map.
+/// metal, fabric, carpet in the stem (a stem with none is left out). Throws ps::InputError naming
+/// the manifest and the key when the manifest cannot be read or an entry lacks its name, category
+/// or an albedo map.
 std::vector<RealMaterial> listRealMaterials(const std::filesystem::path& data);
 
 /// A tangent-space normal map read as unit OpenGL normals (CV_32FC3, RGB = xyz), resized to

@@ -2,9 +2,9 @@
 
 #include <atomic>
 #include <cmath>
-#include <limits>
 #include <csignal>
 #include <filesystem>
+#include <limits>
 #include <vector>
 
 #include "photoscene/core.hpp"

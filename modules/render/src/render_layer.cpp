@@ -442,23 +442,23 @@ void diffuseGradWeights(int n, const float* __restrict cb, const float* __restri
 // cI = n.d, cH = n.h, the Schlick weight fc = (1 - wo.h)^5, the cosines clamped at 0, and ok:
 // the direction counts (cI > 0, cH > 0, u not degenerate). Inlined into the vectorised loops.
 struct SubDirection {
-  float cI, cH, hl2, inv, fc, cIc, cHc;
+  float inv, fc, cIc, cHc;
   bool ok;
 };
 [[gnu::always_inline]] inline SubDirection subDirection(float dx, float dy, float dz, float nx,
                                                         float ny, float nz, float wx, float wy,
                                                         float wz) {
-  SubDirection s;
-  s.cI = nx * dx + ny * dy + nz * dz;
+  const float cI = nx * dx + ny * dy + nz * dz;
   const float ux = wx + dx, uy = wy + dy, uz = wz + dz;
-  s.hl2 = ux * ux + uy * uy + uz * uz;
-  s.inv = 1.0f / std::sqrt(std::max(s.hl2, 1e-30f));
-  s.cH = (nx * ux + ny * uy + nz * uz) * s.inv;
+  const float hl2 = ux * ux + uy * uy + uz * uz;
+  SubDirection s;
+  s.inv = 1.0f / std::sqrt(std::max(hl2, 1e-30f));
+  const float cH = (nx * ux + ny * uy + nz * uz) * s.inv;
   const float woh = (wx * ux + wy * uy + wz * uz) * s.inv;
   s.fc = shading::schlickWeight(woh);
-  s.cHc = std::max(s.cH, 0.0f);
-  s.cIc = std::max(s.cI, 0.0f);
-  s.ok = (s.cI > 0) & (s.cH > 0) & (s.hl2 > 1e-16f);
+  s.cHc = std::max(cH, 0.0f);
+  s.cIc = std::max(cI, 0.0f);
+  s.ok = (cI > 0) & (cH > 0) & (hl2 > 1e-16f);
   return s;
 }
 
