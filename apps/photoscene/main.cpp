@@ -10,9 +10,11 @@
 
 #include "commands.hpp"
 #include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
 
 int main(int argc, char** argv) {
   ps::initLogging();
+  ps::reuseFreedImageMemory();  // graphs evaluated at the texture size allocate many large maps
   CLI::App app{"photoscene: photos + a coarse CAD model -> a relightable digital twin with "
                "procedural materials.\nWith no arguments, runs the bundled sample into ./photoscene-demo."};
   app.set_version_flag("--version", PS_VERSION);

@@ -2,6 +2,10 @@
 
 #include <sys/resource.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace ps {
 
 int64_t peakMemoryBytes() {
@@ -16,6 +20,13 @@ int64_t peakMemoryBytes() {
 
 double peakMemoryMiB() {
   return static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);
+}
+
+void reuseFreedImageMemory() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#endif
 }
 
 }  // namespace ps

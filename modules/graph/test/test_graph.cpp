@@ -1,6 +1,7 @@
 // Tests of the graph module: node gradients, library validity, tileability, resolution
 // independence, output ranges, caching, self-fit with Adam.
 #include "photoscene/core.hpp"
+#include "photoscene/core/memory.hpp"
 #include "photoscene/graph.hpp"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,9 @@
 #include <fstream>
 
 namespace {
+
+// The 1024 px sweeps below allocate every node's maps anew: reuse freed buffers (core/memory.hpp).
+[[maybe_unused]] const bool kReuseImageMemory = (ps::reuseFreedImageMemory(), true);
 
 const ps::GraphLibrary& lib() {
   static const ps::GraphLibrary l = ps::GraphLibrary::load(PS_SOURCE_DIR "/modules/graph/library");
