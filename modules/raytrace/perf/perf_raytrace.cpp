@@ -8,6 +8,9 @@
 //   BM_RenderPerLight/<0|1> the per-light images of view 0 at 320x240, 16 spp: one render per
 //                          light (0) against one trace for all (1, renderPerLight)
 //   BM_IncidentLightGrid   grid at stride 16 on 320x240 (8x16 bins, 4 samples per bin)
+//   BM_Sampler/<0|1>       256 samples of one pixel, a 2D and a 1D dimension each: the sampler
+//                          (1) against the scrambles of sobol::dim0 / dim1 written out (0, the
+//                          same values with the bit reversals that cancel)
 //   BM_IncidentLightRepresentation  measurement: shading error of the 8x16 grid and of SH fits
 //                          against a BSDF-importance-sampled reference, per roughness
 // Cycles is not run from here (no Blender scene export from a twin yet); the case records
@@ -23,6 +26,7 @@
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/raytrace.hpp"
+#include "photoscene/raytrace/sampler.hpp"
 #include "photoscene/scene.hpp"
 
 namespace ps {
@@ -159,6 +163,33 @@ void BM_IncidentLightGrid(benchmark::State& state) {
   }
   state.counters["points"] = ((320 + 15) / 16) * ((240 + 15) / 16);
 }
+// The sampler's 2D + 1D dimensions as written out before the reversal shortcuts (same values).
+Vec2f referenceGet2D(uint64_t h, uint32_t index) {
+  const uint32_t i = sobol::nestedUniformScramble(index, static_cast<uint32_t>(h));
+  const uint64_t h2 = mix64(h);
+  return Vec2f(
+      sobol::toUnit(sobol::nestedUniformScramble(sobol::dim0(i), static_cast<uint32_t>(h2))),
+      sobol::toUnit(sobol::nestedUniformScramble(sobol::dim1(i), static_cast<uint32_t>(h2 >> 32))));
+}
+
+void BM_Sampler(benchmark::State& state) {
+  const bool sampler = state.range(0) != 0;
+  uint64_t pixel = 0;
+  for (auto _ : state) {
+    SobolSampler s(7, ++pixel);
+    const uint64_t h = mix64(pixel);
+    float sum = 0;
+    for (uint32_t i = 0; i < 256; ++i) {
+      s.startSample(i);
+      const Vec2f p = sampler ? s.get2D(3) : referenceGet2D(h, i);
+      sum += p.x() + p.y() + s.get1D(4);
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * 256);
+}
+BENCHMARK(BM_Sampler)->Arg(0)->Arg(1);
+
 BENCHMARK(BM_IncidentLightGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Shading error of representations of the incident light, per roughness: the 8 x 16 grid (as

@@ -174,6 +174,19 @@ int cellsHit(const std::vector<Vec2f>& p, int n, int gx, int gy) {
   return static_cast<int>(cells.size());
 }
 
+TEST(Raytrace_Sampler, scrambled_dimensions_are_the_scrambles_of_the_sobol_dimensions) {
+  // the shortcuts the sampler takes (bit reversals that cancel) give the same bits
+  Rng rng(11, 2);
+  for (int k = 0; k < 100000; ++k) {
+    const uint32_t i = k < 1000 ? static_cast<uint32_t>(k) : rng.nextU32();
+    const uint32_t seed = rng.nextU32();
+    ASSERT_EQ(sobol::scrambledDim0(i, seed), sobol::nestedUniformScramble(sobol::dim0(i), seed))
+        << i << " " << seed;
+    ASSERT_EQ(sobol::scrambledDim1(i, seed), sobol::nestedUniformScramble(sobol::dim1(i), seed))
+        << i << " " << seed;
+  }
+}
+
 TEST(Raytrace_Sampler, first_power_of_two_samples_are_stratified_nets) {
   // For every pixel and dimension: the first 16 and 64 2D points fill every cell of every
   // elementary grid 2^a x 2^b with a + b = log2 n (a (0, m, 2)-net), and the first n values of

@@ -60,6 +60,12 @@ inline uint32_t dim0(uint32_t i) {
   return reverseBits(i);
 }
 
+/// nestedUniformScramble(dim0(i), seed) with the two bit reversals that cancel left out (the
+/// same value: dim0 reverses the bits and the scramble reverses them back first).
+inline uint32_t scrambledDim0(uint32_t i, uint32_t seed) {
+  return reverseBits(laineKarrasPermutation(i, seed));
+}
+
 /// Sobol dimension 1 (generator: the Pascal matrix mod 2), 32-bit fixed point.
 inline uint32_t dim1(uint32_t i) {
   uint32_t x = 0, v = 0x80000000u;
@@ -68,6 +74,17 @@ inline uint32_t dim1(uint32_t i) {
     v ^= v >> 1;
   }
   return x;
+}
+
+/// nestedUniformScramble(dim1(i), seed) without reversing dim1's bits: the generator's columns
+/// are built bit-reversed instead (rev(v >> 1) = rev(v) << 1), the same value.
+inline uint32_t scrambledDim1(uint32_t i, uint32_t seed) {
+  uint32_t x = 0, v = 1u;
+  for (; i; i >>= 1) {
+    x ^= (0u - (i & 1u)) & v;
+    v ^= v << 1;
+  }
+  return reverseBits(laineKarrasPermutation(x, seed));
 }
 
 inline float toUnit(uint32_t x) {
@@ -91,18 +108,15 @@ class SobolSampler {
   float get1D(uint32_t dim) const {
     const uint64_t h = mix64(key_ + dim);
     const uint32_t i = sobol::nestedUniformScramble(index_, static_cast<uint32_t>(h));
-    return sobol::toUnit(
-        sobol::nestedUniformScramble(sobol::dim0(i), static_cast<uint32_t>(h >> 32)));
+    return sobol::toUnit(sobol::scrambledDim0(i, static_cast<uint32_t>(h >> 32)));
   }
   /// The 2D pair of dimension `dim` (its own dimension: independent of get1D(dim)), in [0, 1)^2.
   Vec2f get2D(uint32_t dim) const {
     const uint64_t h = mix64(key_ + dim + 0x9e3779b97f4a7c15ULL);
     const uint32_t i = sobol::nestedUniformScramble(index_, static_cast<uint32_t>(h));
     const uint64_t h2 = mix64(h);
-    return Vec2f(
-        sobol::toUnit(sobol::nestedUniformScramble(sobol::dim0(i), static_cast<uint32_t>(h2))),
-        sobol::toUnit(
-            sobol::nestedUniformScramble(sobol::dim1(i), static_cast<uint32_t>(h2 >> 32))));
+    return Vec2f(sobol::toUnit(sobol::scrambledDim0(i, static_cast<uint32_t>(h2))),
+                 sobol::toUnit(sobol::scrambledDim1(i, static_cast<uint32_t>(h2 >> 32))));
   }
 
  private:
