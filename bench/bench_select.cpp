@@ -8,12 +8,12 @@
 //                   [--structure W] [--ps W (the texture key's joint statistics, features)] [--sweep-k 1 (k, distinct draws, category-first vote)]
 //                   [--distinct 0|1 (1: the k nearest draws vote; default 0: the k nearest rows)]
 //                   [--cache DIR] [--profile-only 1]
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <algorithm>
-#include <sstream>
 
+#include "bank_options.hpp"
 #include "photoscene/core.hpp"
 #include "photoscene/features.hpp"
 #include "photoscene/select.hpp"
@@ -24,56 +24,25 @@ int main(int argc, char** argv) {
   ps::HeldOutOptions held;
   bool linearOnly = false, observedProtocol = true, profileOnly = false, sweepK = false;
   std::string cache;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--draws")
-      options.drawsPerGraph = std::atoi(v.c_str());
-    else if (a == "--size")
-      options.renderSize = std::atoi(v.c_str());
-    else if (a == "--map")
-      options.mapSize = std::atoi(v.c_str());
-    else if (a == "--k")
-      held.k = std::atoi(v.c_str());
-    else if (a == "--heldout")
-      held.drawsPerGraph = std::atoi(v.c_str());
-    else if (a == "--observed")
-      options.observedPerDraw = std::atoi(v.c_str());
-    else if (a == "--shading")
-      options.shadingSigma = std::stof(v);
-    else if (a == "--stats")
-      options.statisticsWeight = std::stof(v);
-    else if (a == "--structure")
-      options.structureWeight = std::stof(v);
-    else if (a == "--ps")
-      options.key.psWeight = std::stof(v);
-    else if (a == "--cache")
-      cache = v;
-    else if (a == "--category-first")
-      held.categoryFirst = std::atoi(v.c_str()) != 0;
-    else if (a == "--projection")
-      options.discriminantProjection = std::atoi(v.c_str()) != 0;
-    else if (a == "--distinct")
-      held.distinctDraws = std::atoi(v.c_str()) != 0;
-    else if (a == "--sweep-k")
-      sweepK = std::atoi(v.c_str()) != 0;
-    else if (a == "--profile-only")
-      profileOnly = std::atoi(v.c_str()) != 0;
-    else if (a == "--linear-only")
-      linearOnly = std::atoi(v.c_str()) != 0;
-    else if (a == "--seed")
-      held.seed = std::stoull(v);
-    else if (a == "--observed-protocol")
-      observedProtocol = std::atoi(v.c_str()) != 0;
-    else if (a == "--scales") {
-      options.uvScales.clear();
-      std::stringstream ss(v);
-      std::string tok;
-      while (std::getline(ss, tok, ',')) options.uvScales.push_back(std::stof(tok));
-    } else {
-      std::fprintf(stderr, "unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
+  CLI::App app{"Graph selection: bank build and query time, held-out accuracy per index type"};
+  ps::bench::addBankOptions(app, options);
+  app.add_option("--size", options.renderSize, "canonical patch size (px)");
+  app.add_option("--map", options.mapSize, "graph evaluation size (px)");
+  app.add_option("--ps", options.key.psWeight, "weight of the texture key's joint statistics");
+  app.add_option("--structure", options.structureWeight, "weight of the structure statistics");
+  app.add_option("--projection", options.discriminantProjection, "discriminant projection (0|1)");
+  app.add_option("--k", held.k, "neighbours that vote");
+  app.add_option("--heldout", held.drawsPerGraph, "held-out draws per graph");
+  app.add_option("--seed", held.seed, "held-out draws' seed (the test's: 2024)");
+  app.add_option("--category-first", held.categoryFirst, "vote for a category first (0|1)");
+  app.add_option("--distinct", held.distinctDraws,
+                 "1: the k nearest draws vote; 0 (default): the k nearest rows");
+  app.add_option("--observed-protocol", observedProtocol, "also the observed-plane protocol (0|1)");
+  app.add_option("--sweep-k", sweepK, "sweep k, distinct draws and the category-first vote (0|1)");
+  app.add_option("--linear-only", linearOnly, "exhaustive search only (0|1)");
+  app.add_option("--profile-only", profileOnly, "only where a query's time goes (0|1)");
+  app.add_option("--cache", cache, "bank cache folder (default: build the bank)");
+  CLI11_PARSE(app, argc, argv);
   const ps::GraphLibrary lib = ps::GraphLibrary::load();
   {
     // where a query's time goes (observed planes: unwarp, texture key, statistics, structure)

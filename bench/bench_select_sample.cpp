@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bank_options.hpp"
 #include "photoscene/align.hpp"
 #include "photoscene/core.hpp"
 #include "photoscene/raytrace.hpp"
@@ -27,37 +27,15 @@ int main(int argc, char** argv) {
   fs::path cache = "bank-cache";
   ps::ExemplarBankOptions options;
   ps::PartSelectionOptions query;
-  fs::path dump;  // --dump DIR: each part's prepared texture (PNG, scaled to its mean)
-  int i = 1;
-  if (argc > 1 && argv[1][0] != '-') scenePath = argv[i++];
-  for (; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--cache")
-      cache = v;
-    else if (a == "--draws")
-      options.drawsPerGraph = std::atoi(v.c_str());
-    else if (a == "--observed")
-      options.observedPerDraw = std::atoi(v.c_str());
-    else if (a == "--shading")
-      options.shadingSigma = std::stof(v);
-    else if (a == "--dump")
-      dump = v;
-    else if (a == "--stats")
-      options.statisticsWeight = std::stof(v);
-    else if (a == "--k")
-      query.k = std::atoi(v.c_str());
-    else if (a == "--category-first")
-      query.categoryFirst = std::atoi(v.c_str()) != 0;
-    else if (a == "--scales") {
-      options.uvScales.clear();
-      std::stringstream ss(v);
-      std::string tok;
-      while (std::getline(ss, tok, ',')) options.uvScales.push_back(std::stof(tok));
-    } else {
-      std::fprintf(stderr, "unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
+  fs::path dump;
+  CLI::App app{"Graph selection on a scene with known graphs (default: the bundled sample)"};
+  app.add_option("scene", scenePath, "scene.json with gt/twin/materials/<part>.json");
+  ps::bench::addBankOptions(app, options);
+  app.add_option("--k", query.k, "neighbours that vote");
+  app.add_option("--category-first", query.categoryFirst, "vote for a category first (0|1)");
+  app.add_option("--cache", cache, "bank cache folder");
+  app.add_option("--dump", dump, "write each part's prepared texture (PNG, scaled to its mean)");
+  CLI11_PARSE(app, argc, argv);
   try {
     const ps::Scene scene = ps::loadScene(scenePath);
     const ps::View& view = scene.views[0];
