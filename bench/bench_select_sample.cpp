@@ -47,21 +47,19 @@ int main(int argc, char** argv) {
     std::printf("bank: %d exemplars, %s in %.1f s\n", bank.rows(), cached ? "loaded" : "built",
                 timer.seconds());
 
-    // the pipeline's align stage (pipeline.cpp, stageAlign), at the photo's resolution
+    // the pipeline's align stage (align::alignView), at the photo's resolution
     const std::vector<ps::PartMaterial> gray;
     const ps::PathTracer tracer(scene, gray);
     const ps::GBuffer gb = ps::renderGBuffer(tracer, view.camera);
-    const auto geo = ps::align::partMasks(gb.partId);
-    cv::Mat labels = view.segments;
-    std::map<int, int> pinned = view.segmentParts;
-    if (labels.empty()) labels = ps::align::proposeRegions(view.photo, geo, &pinned);
-    const ps::align::MatchResult match = ps::align::matchRegions(labels, geo, pinned);
+    const ps::align::ViewAlignment aligned =
+        ps::align::alignView(view.photo, view.segments, view.segmentParts, gb.partId, gb.coverage);
 
     std::printf("%-12s %6s  %-22s %-22s %-22s\n", "part", "pixels", "truth", "photo-frame key",
                 "selectForPart");
     int total = 0, oldTop1 = 0, newTop1 = 0, oldCat = 0, newCat = 0;
-    for (const auto& [part, photoMask] : match.photoMasks) {
-      if (!geo.count(part) || cv::countNonZero(photoMask) == 0) continue;
+    for (const auto& [part, photoMask] : aligned.photoMask) {
+      const cv::Mat& fit = aligned.fitMask.at(part);
+      if (cv::countNonZero(photoMask) == 0 || cv::countNonZero(fit) == 0) continue;
       const std::string& name = scene.parts[part].name;
       std::string truth = "?";
       if (std::ifstream f(truthDir / (name + ".json")); f)
@@ -72,17 +70,9 @@ int main(int argc, char** argv) {
                     "homogeneous", "homogeneous");
         continue;
       }
-      const cv::Mat& geoMask = geo.at(part);
-      const cv::Matx23d A = ps::align::boxAffine(geoMask, photoMask);
-      cv::Mat warped, interior, partPhoto;
-      cv::warpAffine(photoMask, warped, cv::Mat(A), geoMask.size(), cv::INTER_NEAREST,
-                     cv::BORDER_CONSTANT, 0);
-      cv::threshold(gb.coverage[part], interior, 0.99, 255, cv::THRESH_BINARY);
-      interior.convertTo(interior, CV_8UC1);
-      cv::Mat fit = geoMask & warped & interior;
-      if (cv::countNonZero(fit) == 0) fit = geoMask & warped;
-      cv::warpAffine(view.photo, partPhoto, cv::Mat(A), view.photo.size(), cv::INTER_LINEAR,
-                     cv::BORDER_REFLECT);
+      cv::Mat partPhoto;
+      cv::warpAffine(view.photo, partPhoto, cv::Mat(aligned.warp.at(part)), view.photo.size(),
+                     cv::INTER_LINEAR, cv::BORDER_REFLECT);
 
       const ps::GraphChoice before =
           bank.select(ps::describeTexture(view.photo, photoMask, options), query.k);
