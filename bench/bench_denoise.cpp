@@ -19,10 +19,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -46,14 +46,6 @@ double wallSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::vector<int> parseList(const std::string& s) {
-  std::vector<int> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) v.push_back(std::stoi(item));
-  return v;
-}
-
 struct Timed {
   double cpu = 0, wall = 0;
 };
@@ -74,42 +66,18 @@ int main(int argc, char** argv) {
   std::vector<int> low = {8, 16, 32}, high = {64, 128, 256};
   std::vector<double> adaptive;  // thresholds (RenderOptions::adaptiveThreshold)
   int adaptiveSpp = 32;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--reference")
-      refPath = next();
-    else if (a == "--ref-spp")
-      refSpp = std::stoi(next());
-    else if (a == "--low")
-      low = parseList(next());
-    else if (a == "--high")
-      high = parseList(next());
-    else if (a == "--adaptive") {
-      std::stringstream ss(next());
-      std::string item;
-      while (std::getline(ss, item, ',')) adaptive.push_back(std::stod(item));
-    } else if (a == "--adaptive-spp")
-      adaptiveSpp = std::stoi(next());
-    else if (a == "--width")
-      width = std::stoi(next());
-    else if (a == "--height")
-      height = std::stoi(next());
-    else if (a == "--png")
-      pngPath = next();
-    else if (!a.empty() && a[0] != '-')
-      twinDir = a;
-    else {
-      std::fprintf(stderr, "unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
+  CLI::App app{"The G-buffer-guided denoiser against raw path tracing at equal CPU time"};
+  app.add_option("twin", twinDir, "twin folder (default: the bundled sample's ground truth)");
+  app.add_option("--reference", refPath, "reference image (rendered at --ref-spp when missing)");
+  app.add_option("--ref-spp", refSpp, "samples per pixel of the reference");
+  app.add_option("--low", low, "denoised sample counts, comma-separated")->delimiter(',');
+  app.add_option("--high", high, "raw sample counts, comma-separated")->delimiter(',');
+  app.add_option("--adaptive", adaptive, "adaptive thresholds, comma-separated")->delimiter(',');
+  app.add_option("--adaptive-spp", adaptiveSpp, "most samples of an adaptive render");
+  app.add_option("--width", width, "render width");
+  app.add_option("--height", height, "render height");
+  app.add_option("--png", pngPath, "crops of noisy | denoised | reference");
+  CLI11_PARSE(app, argc, argv);
   try {
     ps::setLogLevel(ps::LogLevel::Warn);
     const ps::Twin twin = ps::loadTwin(twinDir);

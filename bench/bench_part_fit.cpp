@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core/parallel.hpp"
@@ -212,52 +213,37 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> positional;
   std::vector<int> budgets = {0}, checkpoints;
   std::vector<float> lights = {12.0f, 30.0f};
   int W = 160, H = 120, threads = 1;
   std::string plotPath, csvPath, overrides, extraCsv;
   bool startTruth = false;
   std::string renderDir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--iters") {
-      budgets.clear();
-      for (const std::string& s : split(next())) budgets.push_back(std::stoi(s));
-    } else if (a == "--checkpoints") {
-      for (const std::string& s : split(next())) checkpoints.push_back(std::stoi(s));
-    } else if (a == "--lights") {
-      lights.clear();
-      for (const std::string& s : split(next())) lights.push_back(std::stof(s));
-    } else if (a == "--size") {
-      if (std::sscanf(next().c_str(), "%dx%d", &W, &H) != 2) return 2;
-    } else if (a == "--threads") {
-      threads = std::stoi(next());
-    } else if (a == "--plot") {
-      plotPath = next();
-    } else if (a == "--add-csv") {
-      extraCsv = next();
-    } else if (a == "--set") {
-      overrides = next();
-    } else if (a == "--renders") {
-      renderDir = next();
-    } else if (a == "--start-truth") {
-      startTruth = true;
-    } else if (a == "--csv") {
-      csvPath = next();
-    } else {
-      positional.push_back(a);
-    }
+  std::string size = "160x120";
+  CLI::App app{"Run time against error of the per-part material fit"};
+  std::string presetList = "fast,balanced", graphList = "wood_planks,tile_checker";
+  app.add_option("presets", presetList, "presets, comma-separated");
+  app.add_option("graphs", graphList, "graphs, comma-separated");
+  app.add_option("--iters", budgets, "iteration budgets, comma-separated (0: the preset's own)")
+      ->delimiter(',');
+  app.add_option("--checkpoints", checkpoints, "also a row at each of these Adam steps of one run")
+      ->delimiter(',');
+  app.add_option("--lights", lights, "light intensities, comma-separated")->delimiter(',');
+  app.add_option("--size", size, "photo size WxH");
+  app.add_option("--threads", threads, "threads (0: all)");
+  app.add_option("--plot", plotPath, "error against seconds (PNG)");
+  app.add_option("--csv", csvPath, "the table as CSV");
+  app.add_option("--add-csv", extraCsv, "rows of an earlier CSV added to the plot");
+  app.add_option("--set", overrides, "\"key=value;...\": PartFitOptions fields after the preset");
+  app.add_option("--renders", renderDir, "write the photo and each fit's render (PNG)");
+  app.add_flag("--start-truth", startTruth, "start from the true UV transform");
+  CLI11_PARSE(app, argc, argv);
+  if (std::sscanf(size.c_str(), "%dx%d", &W, &H) != 2) {
+    std::fprintf(stderr, "--size: WxH expected, got %s\n", size.c_str());
+    return 2;
   }
-  const std::vector<std::string> presets = split(positional.size() > 0 ? positional[0] : "fast,balanced");
-  const std::vector<std::string> graphs = split(positional.size() > 1 ? positional[1] : "wood_planks,tile_checker");
+  const std::vector<std::string> presets = split(presetList);
+  const std::vector<std::string> graphs = split(graphList);
   const ThreadLimit limit(threads);
   const GraphLibrary lib = GraphLibrary::load();
   std::vector<Row> rows;
