@@ -19,6 +19,7 @@
 #include "photoscene/core/image.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/parallel.hpp"
+#include "photoscene/core/progress.hpp"
 #include "photoscene/core/rng.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/io/files.hpp"
@@ -251,6 +252,9 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   bank.keys_.assign(bank.exemplars_.size() * bank.dim_, 0.f);
   const cv::Mat fullMask(options.renderSize, options.renderSize, CV_8UC1, cv::Scalar(255));
   PartSelectionOptions query;
+  // a minute or two on a laptop, once per library: say what is happening
+  Progress progress("exemplar bank (" + std::to_string(bank.exemplars_.size()) + " renderings)",
+                    graphs);
   parallelFor(0, graphs, [&](int64_t g) {
     MaterialGraph graph = library.create(bank.graphNames_[g]);
     for (int d = 0; d < options.drawsPerGraph; ++d) {
@@ -282,7 +286,9 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
         std::copy(key.begin(), key.end(), bank.keys_.begin() + row * bank.dim_);
       }
     }
+    progress.advance();
   });
+  progress.finish();
   bank.countRenderingsPerDraw();
   if (options.discriminantProjection) bank.learnProjection();
   bank.index_ =
@@ -543,6 +549,10 @@ ExemplarBank ExemplarBank::loadOrBuild(const GraphLibrary& library,
     }
   }
   if (loadedFromCache) *loadedFromCache = false;
+  spdlog::info(
+      "exemplar bank: none cached for this library in {}: building it (once; later runs "
+      "load it in milliseconds)",
+      cacheFolder.string());
   try {
     bank = build(library, options);
     bank.libraryHash_ = library.contentHash();
