@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
+#include "photoscene/core/color.hpp"
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/raytrace.hpp"
@@ -41,7 +42,9 @@ struct Comparison {
   std::string table;
 };
 
-inline double lum(const cv::Vec3f& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+inline double lum(const cv::Vec3f& c) {
+  return luminance(double(c[0]), double(c[1]), double(c[2]));
+}
 
 Comparison compare(const cv::Mat& ours, const cv::Mat& ref, const GBuffer& gb, const Scene& scene, int block) {
   Comparison c;
@@ -74,8 +77,7 @@ Comparison compare(const cv::Mat& ours, const cv::Mat& ref, const GBuffer& gb, c
     const int n = cv::countNonZero(inner);
     if (n < 50) continue;
     const cv::Scalar sa = cv::mean(ours, inner), sb = cv::mean(ref, inner);
-    const double la = 0.2126 * sa[0] + 0.7152 * sa[1] + 0.0722 * sa[2];
-    const double lb = 0.2126 * sb[0] + 0.7152 * sb[1] + 0.0722 * sb[2];
+    const double la = luminance(sa[0], sa[1], sa[2]), lb = luminance(sb[0], sb[1], sb[2]);
     const double rel = std::abs(la - lb) / std::max(lb, 1e-6);
     table << "  " << scene.parts[p].name << ": " << n << " px, ours " << la << ", cycles " << lb << ", rel "
           << rel << "\n";

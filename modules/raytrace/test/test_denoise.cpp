@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "photoscene/core/color.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/raytrace/denoise.hpp"
 
@@ -86,7 +87,7 @@ TEST(Raytrace_Denoise, given_variance_is_used_and_also_denoises) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const cv::Vec3f c = clean.at<cv::Vec3f>(y, x);
-      const float l = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+      const float l = luminance(c);
       g.variance.at<float>(y, x) = 0.09f * l * l;
     }
   const cv::Mat out = denoise(g, noisy);

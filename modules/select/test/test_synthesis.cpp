@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "photoscene/core/color.hpp"
 #include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/optim.hpp"
@@ -322,7 +323,7 @@ TEST(Select_Synthesis, texture_evidence_rejects_colours_the_photo_does_not_show)
         // blue or orange at the grey's luminance (Rec. 709 weights)
         const bool orange = (((x + dx) / 12 + y / 12) & 1) != 0;
         const cv::Vec3f c = orange ? cv::Vec3f(1.3f, 0.95f, 0.5f) : cv::Vec3f(0.55f, 1.0f, 1.6f);
-        const float l = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        const float l = luminance(c);
         out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / l);
       }
     return out;
