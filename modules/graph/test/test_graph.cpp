@@ -303,7 +303,7 @@ BorderGradient borderGradient(const cv::Mat& a) {
 }  // namespace
 
 // Two criteria on the same evaluations (each graph at 256 and 1024 px, every map; computed once,
-// as the two 1024 px sweeps of the library took 36 + 33 s of CI when they were separate tests):
+// as the two 1024 px sweeps of the library took 41 + 38 s of CI when they were separate tests):
 // - border continuity: issue 18's bound above, at 256 and at 1024 px;
 // - resolution independence: 1024 box-downsampled to 256 vs 256, both low-passed (gaussian sigma
 //   2 px at 256): mean absolute difference < 0.03 for albedo and roughness, < 0.08 for normals
