@@ -40,10 +40,11 @@ void BM_TextureLossForward(benchmark::State& state) {
 }
 BENCHMARK(BM_TextureLossForward)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
-void BM_TextureLossForwardBackward(benchmark::State& state) {
+// Forward + backward of the loss with `options` on the benchmark's photo and render.
+void lossForwardBackward(benchmark::State& state, const ps::TextureLossOptions& options) {
   std::unique_ptr<ps::ThreadLimit> limit;
   threads(state, limit);
-  ps::TextureLossTarget target(texture(1, 1.0), partMask());
+  ps::TextureLossTarget target(texture(1, 1.0), partMask(), options);
   ps::TextureLossParams p;
   p.target = &target;
   p.render = texture(2, 2.0);
@@ -54,25 +55,18 @@ void BM_TextureLossForwardBackward(benchmark::State& state) {
     benchmark::DoNotOptimize(grad.data);
   }
 }
+
+void BM_TextureLossForwardBackward(benchmark::State& state) {
+  lossForwardBackward(state, ps::TextureLossOptions());
+}
 BENCHMARK(BM_TextureLossForwardBackward)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // The texture loss with every joint statistic of texture_ps.hpp weighted (their extra cost).
 void BM_TextureLossForwardBackwardPs(benchmark::State& state) {
-  std::unique_ptr<ps::ThreadLimit> limit;
-  threads(state, limit);
   ps::TextureLossOptions o;
   o.weights.psAutoLowpass = o.weights.psAutoMagnitude = o.weights.psCrossOrientation = 1.0f;
   o.weights.psCrossScale = o.weights.psColor = 1.0f;
-  ps::TextureLossTarget target(texture(1, 1.0), partMask(), o);
-  ps::TextureLossParams p;
-  p.target = &target;
-  p.render = texture(2, 2.0);
-  cv::Mat grad;
-  for (auto _ : state) {
-    ps::textureLossForward(p);
-    ps::textureLossBackward(p, 1.0f, grad);
-    benchmark::DoNotOptimize(grad.data);
-  }
+  lossForwardBackward(state, o);
 }
 BENCHMARK(BM_TextureLossForwardBackwardPs)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 

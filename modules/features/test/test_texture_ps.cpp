@@ -33,12 +33,8 @@ TextureLossOptions onlyGroup(int group) {
 // entries of these statistics).
 double fdErrorOverLargest(const TextureLossTarget& target, const cv::Mat& render,
                           const std::vector<cv::Point>& pixels, double step) {
-  TextureLossParams p;
-  p.target = &target;
-  p.render = render;
-  textureLossForward(p);
   cv::Mat grad;
-  textureLossBackward(p, 1.0f, grad);
+  lossAndGradient(target, render, grad);
   double maxErr = 0, maxNum = 0;
   cv::Mat work = render.clone();
   TextureLossParams q;
@@ -261,12 +257,8 @@ TEST(Features_TexturePs, stress_masks_and_images_stay_finite) {
       const TextureLossTarget target(photo, mask, o);
       const PlacementLossTarget place(photo, mask);
       for (const cv::Mat& render : {black, saturated, blackAndWhite, tex}) {
-        TextureLossParams p;
-        p.target = &target;
-        p.render = render;
-        ASSERT_TRUE(std::isfinite(textureLossForward(p)));
         cv::Mat grad;
-        textureLossBackward(p, 1.0f, grad);
+        ASSERT_TRUE(std::isfinite(lossAndGradient(target, render, grad)));
         ASSERT_TRUE(allFinite(grad));
         cv::Mat pg;
         const double pl = placementLoss(place, render, &pg);

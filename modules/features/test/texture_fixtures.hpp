@@ -2,6 +2,7 @@
 #pragma once
 
 #include "photoscene/core/rng.hpp"
+#include "photoscene/features/texture_loss.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -10,6 +11,17 @@
 #include <vector>
 
 namespace ps::test {
+
+/// The texture loss of `render` against `target`; `grad` gets its gradient (d loss / d render).
+inline double lossAndGradient(const TextureLossTarget& target, const cv::Mat& render,
+                              cv::Mat& grad) {
+  TextureLossParams p;
+  p.target = &target;
+  p.render = render;
+  const double loss = textureLossForward(p);
+  textureLossBackward(p, 1.0f, grad);
+  return loss;
+}
 
 /// The image under a light of another colour and level: each channel times its factor.
 inline cv::Mat scaleChannels(const cv::Mat& img, cv::Vec3f s) {

@@ -20,6 +20,7 @@
 #include "photoscene/report.hpp"
 #include "photoscene/scene.hpp"
 #include "sample_paths.hpp"
+#include "shared_run.hpp"
 
 namespace ps {
 namespace {
@@ -147,7 +148,7 @@ PipelineOptions caseOptions(const fs::path& dir) {
   o.workWidth = kWidth;
   o.maxFitIterations = 20;
   o.writeGltf = false;
-  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
+  o.bankCache = test::kBankCache;
   return o;
 }
 
@@ -171,26 +172,20 @@ std::map<std::string, std::pair<Vec3d, int>> fittedAlbedos(const fs::path& out, 
 
 // Three views at exposures 1, 0.6 and 1.5, run once; then the same case with view 1's photo
 // twice as bright.
-class MultiView : public ::testing::Test {
+class MultiView : public test::SharedRun<MultiView> {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<io::TempDir>("ps-multiview");
     makeCase(dir_->path() / "a", {.exposure = {1.0, 0.6, 1.5}, .exactGeometry = true});
-    a_ = std::make_unique<PipelineResult>(runPipeline(caseOptions(dir_->path() / "a")));
+    result_ = std::make_unique<PipelineResult>(runPipeline(caseOptions(dir_->path() / "a")));
   }
-  static void TearDownTestSuite() {
-    a_.reset();
-    dir_.reset();
-  }
-  static inline std::unique_ptr<io::TempDir> dir_;
-  static inline std::unique_ptr<PipelineResult> a_;
 };
 
 TEST_F(MultiView, recovers_the_exposures_and_the_albedos_within_5_percent) {
-  ASSERT_EQ(a_->exposure.size(), 3u);
-  EXPECT_DOUBLE_EQ(a_->exposure[0], 1.0);
-  EXPECT_NEAR(a_->exposure[1], 0.6, 0.6 * 0.03);
-  EXPECT_NEAR(a_->exposure[2], 1.5, 1.5 * 0.03);
+  ASSERT_EQ(result_->exposure.size(), 3u);
+  EXPECT_DOUBLE_EQ(result_->exposure[0], 1.0);
+  EXPECT_NEAR(result_->exposure[1], 0.6, 0.6 * 0.03);
+  EXPECT_NEAR(result_->exposure[2], 1.5, 1.5 * 0.03);
   // One scale per channel for all albedos stays open (brighter or warmer lights, darker or cooler
   // materials): the recovered albedos are compared after the median ratio over the parts, their
   // luminance and each channel. The parts compared are those a view sees well (at least 300
@@ -252,8 +247,8 @@ TEST_F(MultiView, one_photo_twice_as_bright_doubles_its_exposure_and_keeps_the_a
   makeCase(dir_->path() / "b", {.exposure = {1.0, 1.2, 1.5}, .exactGeometry = true});
   const PipelineResult b = runPipeline(caseOptions(dir_->path() / "b"));
   ASSERT_EQ(b.exposure.size(), 3u);
-  EXPECT_NEAR(b.exposure[1] / a_->exposure[1], 2.0, 2.0 * 0.02);
-  EXPECT_NEAR(b.exposure[2] / a_->exposure[2], 1.0, 0.02);
+  EXPECT_NEAR(b.exposure[1] / result_->exposure[1], 2.0, 2.0 * 0.02);
+  EXPECT_NEAR(b.exposure[2] / result_->exposure[2], 1.0, 0.02);
   const auto pa = fittedAlbedos(dir_->path() / "a/twin", 100);
   const auto pb = fittedAlbedos(dir_->path() / "b/twin", 100);
   ASSERT_EQ(pa.size(), pb.size());
@@ -422,7 +417,7 @@ TEST(BlenderRoomMultiView, runs_end_to_end_with_two_views_of_one_exposure) {
   o.writeGltf = false;
   o.renderSpp = 8;
   o.evalSpp = 8;
-  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
+  o.bankCache = test::kBankCache;
   const PipelineResult r = runPipeline(o);
   ASSERT_EQ(r.exposure.size(), 2u);
   EXPECT_DOUBLE_EQ(r.exposure[0], 1.0);

@@ -10,6 +10,7 @@
 #include "photoscene/pipeline.hpp"
 #include "photoscene/scene.hpp"
 #include "sample_paths.hpp"
+#include "shared_run.hpp"
 
 namespace ps {
 namespace {
@@ -17,6 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::kSample;
+using test::sampleOptions;
 
 // ---------------------------------------------------------------- stage cache
 
@@ -94,29 +96,13 @@ double maskedRmse(const nlohmann::json& metrics) {
 
 nlohmann::json readJson(const fs::path& p) { return io::readJsonFile(p); }
 
-PipelineOptions sampleOptions(const fs::path& scene, const fs::path& out) {
-  PipelineOptions o;
-  o.scene = scene;
-  o.out = out;
-  o.preset = "fast";
-  o.textureSize = 128;
-  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
-  return o;
-}
-
 // One fixture run shared by the end-to-end tests (the fit is the expensive part).
-class SampleRun : public ::testing::Test {
+class SampleRun : public test::SharedRun<SampleRun> {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<io::TempDir>("ps-pipeline");
     result_ = std::make_unique<PipelineResult>(runPipeline(sampleOptions(kSample / "scene.json", dir_->path() / "twin")));
   }
-  static void TearDownTestSuite() {
-    result_.reset();
-    dir_.reset();
-  }
-  static inline std::unique_ptr<io::TempDir> dir_;
-  static inline std::unique_ptr<PipelineResult> result_;
 };
 
 TEST_F(SampleRun, writes_a_complete_output_folder) {

@@ -14,6 +14,7 @@
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "sample_paths.hpp"
+#include "shared_run.hpp"
 
 namespace ps::pipeline {
 namespace {
@@ -22,16 +23,7 @@ namespace fs = std::filesystem;
 using Pointer = nlohmann::json::json_pointer;
 
 using test::kSample;
-
-PipelineOptions sampleOptions(const fs::path& scene, const fs::path& out) {
-  PipelineOptions o;
-  o.scene = scene;
-  o.out = out;
-  o.preset = "fast";
-  o.textureSize = 128;
-  o.bankCache = fs::path(PS_BINARY_DIR) / "photoscene-cache";
-  return o;
-}
+using test::sampleOptions;
 
 /// The bundled sample copied into a temporary folder, so that its files can be edited.
 struct SampleCopy {
@@ -142,7 +134,7 @@ class Stages_Keys : public ::testing::Test {
     original_ = inputs().scene.desc.rawJson;
     fs::create_directories(options_.out);
     io::writeJsonFile(options_.out / "metrics.json", nlohmann::json{{"a", 1}});
-    base_ = runner_->keys(*ctx_);
+    result_ = runner_->keys(*ctx_);
   }
   RunInputs& inputs() { return ContextTesting::inputs(*ctx_); }
 
@@ -153,7 +145,7 @@ class Stages_Keys : public ::testing::Test {
     int changed = 0;
     for (const auto& [stage, units] : expected)
       for (size_t u = 0; u < units.size(); ++u) {
-        const bool differs = now.at(stage)[u] != base_.at(stage)[u];
+        const bool differs = now.at(stage)[u] != result_.at(stage)[u];
         changed += differs;
         EXPECT_EQ(differs, units[u])
             << what << ": stage " << stage << " unit " << u
@@ -201,7 +193,7 @@ class Stages_Keys : public ::testing::Test {
   std::unique_ptr<Context> ctx_;
   std::unique_ptr<Runner> runner_;
   nlohmann::json original_;
-  StageKeys base_;
+  StageKeys result_;
 };
 
 TEST_F(Stages_Keys, every_scene_json_value_changes_exactly_the_keys_downstream_of_it) {
@@ -214,7 +206,7 @@ TEST_F(Stages_Keys, every_scene_json_value_changes_exactly_the_keys_downstream_o
     EXPECT_GT(checkScene("scene.json " + at.to_string(), edited), 0)
         << at.to_string() << " is read by no stage";
   }
-  EXPECT_EQ(runner_->keys(*ctx_), base_);  // restored: the same keys again
+  EXPECT_EQ(runner_->keys(*ctx_), result_);  // restored: the same keys again
 }
 
 TEST_F(Stages_Keys, adding_a_key_changes_exactly_the_keys_downstream_of_it) {
@@ -245,7 +237,7 @@ TEST_F(Stages_Keys, a_files_bytes_change_exactly_the_keys_downstream_of_it) {
     EXPECT_GT(check(std::string("bytes of ") + where, expected(sceneDeclares(original_, at))), 0);
     std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
   }
-  EXPECT_EQ(runner_->keys(*ctx_), base_);
+  EXPECT_EQ(runner_->keys(*ctx_), result_);
 }
 
 TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
@@ -295,7 +287,7 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
         << name << " is read by no stage";
     edits.at(name)(inputs(), false);
   }
-  EXPECT_EQ(runner_->keys(*ctx_), base_);
+  EXPECT_EQ(runner_->keys(*ctx_), result_);
 }
 
 TEST_F(Stages_Keys, an_output_file_changes_the_keys_of_the_stages_that_read_it) {
@@ -314,7 +306,7 @@ TEST_F(Stages_Keys, what_changes_no_result_changes_no_key) {
   inputs().options.out = s_.dir / "elsewhere";
   fs::create_directories(inputs().options.out);
   io::writeJsonFile(inputs().options.out / "metrics.json", nlohmann::json{{"a", 1}});
-  EXPECT_EQ(runner_->keys(*ctx_), base_);
+  EXPECT_EQ(runner_->keys(*ctx_), result_);
 }
 
 // ---------------------------------------------------------------- reads as declared
@@ -428,7 +420,7 @@ TEST(Stages_Runner, a_new_stage_is_keyed_cached_and_reported_from_its_declaratio
 // A small, quick version of the sample (working width 96, two fit iterations) with a fixed
 // material and an environment light seen through a window, run once; each test edits one of them
 // and reruns into the same output folder.
-class StaleCache : public ::testing::Test {
+class StaleCache : public test::SharedRun<StaleCache> {
  protected:
   static nlohmann::json baseScene() {
     nlohmann::json j = io::readJsonFile(kSample / "scene.json");
@@ -460,14 +452,8 @@ class StaleCache : public ::testing::Test {
       for (int x = 0; x < sky.cols; ++x)
         sky.at<cv::Vec3f>(y, x) = cv::Vec3f(1, 1, 1) * (0.2f + 2.0f * x / sky.cols);
     io::writeImage(dir_->path() / "sky.exr", sky);
-    base_ = std::make_unique<PipelineResult>(run(baseScene()));
+    result_ = std::make_unique<PipelineResult>(run(baseScene()));
   }
-  static void TearDownTestSuite() {
-    base_.reset();
-    dir_.reset();
-  }
-  static inline std::unique_ptr<io::TempDir> dir_;
-  static inline std::unique_ptr<PipelineResult> base_;
 };
 
 TEST_F(StaleCache, an_edited_environment_light_recomputes_the_lights_and_the_grids) {
@@ -491,13 +477,13 @@ TEST_F(StaleCache, an_edited_fixed_material_recomputes_the_lights_and_the_grids)
   EXPECT_EQ(r.stage("lights0")->computed, 1);
   EXPECT_EQ(r.stage("incident0")->computed, 1);
   // selection by synthesis fits its finalists under incident0: new grids, a new selection
-  EXPECT_EQ(r.stage("select")->computed, base_->stage("select")->computed);
+  EXPECT_EQ(r.stage("select")->computed, result_->stage("select")->computed);
   EXPECT_GT(r.stage("select")->computed, 0);
   // a darker fixed part explains less of the photo: the lights come out otherwise
-  ASSERT_EQ(r.lightRadiance.size(), base_->lightRadiance.size());
+  ASSERT_EQ(r.lightRadiance.size(), result_->lightRadiance.size());
   double diff = 0;
   for (size_t k = 0; k < r.lightRadiance.size(); ++k)
-    diff += (r.lightRadiance[k] - base_->lightRadiance[k]).norm();
+    diff += (r.lightRadiance[k] - result_->lightRadiance[k]).norm();
   EXPECT_GT(diff, 0.0);
 }
 
