@@ -109,10 +109,14 @@ struct DirectSamples {
   int count = 0;
 };
 
-bool usablePixel(const ViewLightData& v, int y, int x, double saturation) {
-  const cv::Vec3f& p = v.photo.at<cv::Vec3f>(y, x);
+bool usablePhoto(const cv::Vec3f& p, double saturation) {
   bool ok = true;
   for (int c = 0; c < 3; ++c) ok &= std::isfinite(p[c]) && p[c] < saturation && p[c] >= 0;
+  return ok;
+}
+
+bool usablePixel(const ViewLightData& v, int y, int x, double saturation) {
+  bool ok = usablePhoto(v.photo.at<cv::Vec3f>(y, x), saturation);
   for (const cv::Mat& l : v.perLight) {
     const cv::Vec3f& q = l.at<cv::Vec3f>(y, x);
     for (int c = 0; c < 3; ++c) ok &= std::isfinite(q[c]);
@@ -154,6 +158,12 @@ std::vector<DirectSamples> gatherDirect(const ViewLightData& v, int lights, cons
   return out;
 }
 
+/// Every how many usable pixels of a view one is a sample (the fixed grid above maxSamplesPerView).
+size_t sampleStride(size_t usable, const SolveOptions& o) {
+  const size_t most = static_cast<size_t>(o.maxSamplesPerView);
+  return std::max<size_t>(1, (usable + most - 1) / most);
+}
+
 Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
   checkImage(v.photo, CV_32FC3, "lighting: photo");
   checkImage(v.mask, CV_8UC1, v.photo.size(), "lighting: mask");
@@ -168,7 +178,7 @@ Samples gather(const ViewLightData& v, int lights, const SolveOptions& o) {
       if (m[x] && usablePixel(v, y, x, o.saturation)) usable.emplace_back(x, y);
     }
   }
-  const size_t stride = std::max<size_t>(1, (usable.size() + o.maxSamplesPerView - 1) / o.maxSamplesPerView);
+  const size_t stride = sampleStride(usable.size(), o);
   Samples s;
   s.light.resize(lights);
   for (size_t i = 0; i < usable.size(); i += stride) {
@@ -428,6 +438,22 @@ LightSolution solveSamples(const std::vector<Samples>& data,
 }
 
 }  // namespace
+
+cv::Mat solvePixels(const cv::Mat& photo, const cv::Mat& mask, const SolveOptions& options) {
+  checkImage(photo, CV_32FC3, "lighting: photo");
+  checkImage(mask, CV_8UC1, photo.size(), "lighting: mask");
+  std::vector<cv::Point> usable;
+  for (int y = 0; y < photo.rows; ++y) {
+    const uint8_t* m = mask.ptr<uint8_t>(y);
+    const cv::Vec3f* p = photo.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < photo.cols; ++x)
+      if (m[x] && usablePhoto(p[x], options.saturation)) usable.emplace_back(x, y);
+  }
+  cv::Mat out = cv::Mat::zeros(photo.size(), CV_8UC1);
+  const size_t stride = sampleStride(usable.size(), options);
+  for (size_t i = 0; i < usable.size(); i += stride) out.at<uint8_t>(usable[i]) = 255;
+  return out;
+}
 
 LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOptions& options) {
   std::string why;

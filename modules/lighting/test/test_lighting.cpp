@@ -97,6 +97,59 @@ TEST(Lighting_Solve, recovers_intensities_and_exposures_of_a_synthetic_scene) {
   EXPECT_LT(s.residualRms, 0.02 * s.photoRms) << s.summary();
 }
 
+// solvePixels names the pixels the solve reads: renders known only there (zero elsewhere, as a
+// path tracer gives with RenderOptions::pixels) give the same solution, to the bit, as whole
+// renders, with masks that have holes, photos with clipped, negative and NaN pixels, and more
+// usable pixels than the solve samples.
+TEST(Lighting_Solve, renders_of_the_solve_pixels_alone_give_the_same_solution) {
+  Rng rng(8);
+  const cv::Size size(70, 50);
+  const std::vector<Vec3d> truth = {{12, 11, 10}, {3, 2.5, 2}};
+  SolveOptions o;
+  o.maxSamplesPerView = 700;  // of about 2,900 usable pixels a view: every 5th
+  std::vector<ViewLightData> whole(2), sampled(2);
+  for (size_t v = 0; v < whole.size(); ++v) {
+    ViewLightData& d = whole[v];
+    d.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+    cv::rectangle(d.mask, {10, 5}, {25, 30}, cv::Scalar(0), cv::FILLED);
+    d.photo = cv::Mat::zeros(size, CV_32FC3);
+    for (size_t k = 0; k < truth.size(); ++k) {
+      d.perLight.push_back(smoothField(size, rng, 15.0f + 10 * k));
+      cv::Mat c;
+      cv::multiply(d.perLight[k], cv::Scalar(truth[k].x(), truth[k].y(), truth[k].z()), c);
+      d.photo += c * (v == 0 ? 1.0 : 0.8);
+    }
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x)
+        d.photo.at<cv::Vec3f>(y, x) *= 1.0f + 0.02f * rng.normal();
+    d.photo.at<cv::Vec3f>(40, 60) = cv::Vec3f(5, 5, 5);  // clipped
+    d.photo.at<cv::Vec3f>(41, 60) = cv::Vec3f(-1, 0.2f, 0.2f);
+    d.photo.at<cv::Vec3f>(42, 60)[1] = std::numeric_limits<float>::quiet_NaN();
+    o.saturation = 4.0;
+    const cv::Mat pixels = solvePixels(d.photo, d.mask, o);
+    ASSERT_EQ(cv::countNonZero(pixels & ~d.mask), 0);  // within the mask
+    EXPECT_LE(cv::countNonZero(pixels), o.maxSamplesPerView);
+    EXPECT_GT(cv::countNonZero(pixels), o.maxSamplesPerView / 2);
+    for (int y = 40; y <= 42; ++y) EXPECT_EQ(pixels.at<uint8_t>(y, 60), 0) << y;
+    ViewLightData& s = sampled[v];
+    s.photo = d.photo;
+    s.mask = pixels;
+    for (const cv::Mat& l : d.perLight) {
+      cv::Mat only = cv::Mat::zeros(size, CV_32FC3);
+      l.copyTo(only, pixels);
+      s.perLight.push_back(only);
+    }
+  }
+  const LightSolution a = solveLights(whole, o), b = solveLights(sampled, o);
+  ASSERT_EQ(a.intensity.size(), truth.size());
+  EXPECT_EQ(a.samples, b.samples);
+  for (size_t k = 0; k < truth.size(); ++k) {
+    EXPECT_EQ(a.intensity[k], b.intensity[k]) << "light " << k;
+    EXPECT_NEAR(a.intensity[k].x() / truth[k].x(), 1.0, 0.05) << "light " << k;
+  }
+  EXPECT_EQ(a.exposure, b.exposure);
+}
+
 TEST(Lighting_Solve, a_light_that_only_hurts_is_dropped_and_saturated_pixels_ignored) {
   Rng rng(8);
   const cv::Size size(60, 40);

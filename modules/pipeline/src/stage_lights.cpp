@@ -1,6 +1,7 @@
 // Stages `lights0` and `lights1`: the scale of every light whose scale is fitted
 // (Light::fitsScale), by non-negative least squares over per-light renders (one trace for all
-// lights, PathTracer::renderPerLight; lighting module); round 0 under the neutral materials
+// lights, PathTracer::renderPerLight, of the pixels the solve reads alone: lighting::
+// solvePixels; lighting module); round 0 under the neutral materials
 // (on the pixels of the parts of given material alone, where they suffice), round 1 under the
 // fitted ones over every view (per-view exposure with several views). A light the photos show
 // directly is pinned to those pixels, and every part whose reflectance is guessed gets a free
@@ -44,8 +45,10 @@ class LightsStage : public Stage {
     // pixels, and a free reflectance factor per part (lighting/solve.hpp); 6: a float photo's
     // bright pixels count with given emitters too (only an integer-coded photo clips); 7:
     // the given emitters' light a term of the model (lighting/solve.hpp), not taken off the photo;
-    // 8: round 1's factors take their colour from a pinned light
-    decl.version = 8;
+    // 8: round 1's factors take their colour from a pinned light; 9: the renders trace the
+    // pixels the solve reads alone (the same solution; the anchor's light shares are estimated
+    // on those pixels)
+    decl.version = 9;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -62,34 +65,70 @@ class LightsStage : public Stage {
     }
     const std::vector<PartMaterial> mats =
         round_ == 1 ? fittedMaterials(ctx, in, in.fitOptions().mapSize) : neutralMaterials(ctx, in);
+    lighting::SolveOptions so;
+    so.saturation = std::numeric_limits<double>::infinity();  // per view below
+    so.perViewExposure = ctx.views.size() > 1;
+    // round 1 only: a window's measured colour sets the colour of the lights and the albedos
+    // (lighting/solve.hpp); in round 0 it would move selection, which chose textures for the
+    // blender-room example's east wall and table top under the lamps' true colour (balanced:
+    // novel1 sRGB RMSE 18.08 -> 19.01; round 1 only: 18.10)
+    so.pinnedLightSetsColour = round_ == 1;
     // the given lights shine at their scale; the free ones are each rendered at unit scale (all
     // in one trace)
     const PathTracer tracer(scene, mats);
     const std::vector<const Light*> lights = scene.lights.all();
     std::vector<uint8_t> isFree(lights.size(), 0);
     for (int k : freeLights) isFree[k] = 1;
+    // round 0 may solve on the parts of given material alone (anchorOnFixedParts)
+    const bool mayAnchor = round_ == 0 && in.baseline() != Baseline::PixelMedian;
+    std::vector<int> fixedParts;
+    for (const PartWork& p : ctx.parts)
+      if (p.mode == PartMode::Fixed) fixedParts.push_back(p.id);
     std::vector<lighting::ViewLightData> data;
+    std::vector<ViewMasks> masks;
     for (int v = 0; v < in.viewCount(); ++v) {
       checkInterrupted();
       const cv::Mat& photo = in.photo(v);
-      RenderOptions ro;
-      ro.spp = in.budget().lightSpp;
-      ro.seed = in.seed() + 17 * v;
-      const std::vector<cv::Mat> perLight = tracer.renderPerLight(in.camera(v), ro);
       lighting::ViewLightData d;
       // the photo divided by the exposure known so far (observe's estimate, or lights0's): the
       // solve finds what is left of it, close to 1, so that scaling one photo scales its
       // exposure and changes nothing else (the alternation does not start far from it)
       d.photo = photo / exposure_[v];
-      d.mask = ctx.views[v].lightMask.clone();
+      ViewMasks vm;
+      vm.all = ctx.views[v].lightMask.clone();
       if (const double clip = in.photoClip(v, 1.0); std::isfinite(clip)) {
         // an integer-coded photo clips (at 1): its saturated pixels (any channel) say nothing,
         // nor do they with the given emitters' light in the model (below); a float photo
         // (EXR, HDR) does not clip, and all of it counts at any exposure
         std::vector<cv::Mat> ch;
         cv::split(photo, ch);
-        for (const cv::Mat& c : ch) d.mask.setTo(0, c >= kSaturation * clip);
+        for (const cv::Mat& c : ch) vm.all.setTo(0, c >= kSaturation * clip);
       }
+      // where each free light is seen itself (its emitting parts, the windows that open onto
+      // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
+      // mask, whose pixels it does not replace
+      for (int k : freeLights) {
+        std::vector<int> own = lights[k]->emittingParts();
+        for (int id : lights[k]->openingParts()) own.push_back(id);
+        d.direct.push_back(photoMaskOf(ctx.views[v], own, vm.all.size()) & vm.all);
+      }
+      // the pixels the solve reads (of the whole mask, of the fixed parts' if round 0 anchors
+      // there, where a light is seen): the per-light renders trace those alone, with the values
+      // that whole renders have there
+      vm.allSampled = lighting::solvePixels(d.photo, vm.all, so);
+      cv::Mat traced = vm.allSampled.clone();
+      if (mayAnchor) {
+        vm.fixed = photoMaskOf(ctx.views[v], fixedParts, vm.all.size()) & vm.all;
+        vm.fixedSampled = lighting::solvePixels(d.photo, vm.fixed, so);
+        traced |= vm.fixedSampled;
+      }
+      for (const cv::Mat& m : d.direct) traced |= m;
+      RenderOptions ro;
+      ro.spp = in.budget().lightSpp;
+      ro.seed = in.seed() + 17 * v;
+      ro.pixels = traced;
+      const std::vector<cv::Mat> perLight = tracer.renderPerLight(in.camera(v), ro);
+      d.mask = vm.allSampled;
       cv::Mat fixed = cv::Mat::zeros(photo.size(), CV_32FC3);
       for (size_t k = 0; k < lights.size(); ++k) {
         if (isFree[k]) {
@@ -101,14 +140,6 @@ class LightsStage : public Stage {
       // the given emitters' light: a known term of the model, which the view's exposure and
       // each part's free factor scale like the rest (not taken off the photo)
       if (cv::countNonZero(fixed.reshape(1)) > 0) d.given = fixed;
-      // where each free light is seen itself (its emitting parts, the windows that open onto
-      // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
-      // mask, whose pixels it does not replace
-      for (int k : freeLights) {
-        std::vector<int> own = lights[k]->emittingParts();
-        for (int id : lights[k]->openingParts()) own.push_back(id);
-        d.direct.push_back(photoMaskOf(ctx.views[v], own, d.mask.size()) & d.mask);
-      }
       // the parts whose reflectance the renders only guess (round 0: photo median x pin; round
       // 1: the fit's, made under round 0's lights) each get a free factor in the solve; not for
       // the pixel-median baseline, whose albedos are those guesses
@@ -122,18 +153,11 @@ class LightsStage : public Stage {
         }
       }
       data.push_back(std::move(d));
+      masks.push_back(std::move(vm));
     }
     // the pixel-median baseline's albedos are the neutral guesses themselves: its lights are
     // the ones solved with them, not anchored (else it renders at another level than its photo)
-    if (round_ == 0 && in.baseline() != Baseline::PixelMedian) anchorOnFixedParts(ctx, data);
-    lighting::SolveOptions so;
-    so.saturation = std::numeric_limits<double>::infinity();  // per view above
-    so.perViewExposure = ctx.views.size() > 1;
-    // round 1 only: a window's measured colour sets the colour of the lights and the albedos
-    // (lighting/solve.hpp); in round 0 it would move selection, which chose textures for the
-    // blender-room example's east wall and table top under the lamps' true colour (balanced:
-    // novel1 sRGB RMSE 18.08 -> 19.01; round 1 only: 18.10)
-    so.pinnedLightSetsColour = round_ == 1;
+    if (mayAnchor) anchorOnFixedParts(masks, data);
     const lighting::LightSolution s = lighting::solveLights(data, so);
     spdlog::info("{}: {}", decl.name, s.summary());
     intensity_ = s.intensity;
@@ -162,28 +186,33 @@ class LightsStage : public Stage {
   }
 
  private:
+  // A view's pixel masks (CV_8UC1, render frame) and the pixels the solve reads of each
+  // (lighting::solvePixels), which are all that the per-light renders trace.
+  struct ViewMasks {
+    cv::Mat all;    ///< the light mask less clipped pixels
+    cv::Mat fixed;  ///< of `all`, the parts of given material (round 0 only)
+    cv::Mat allSampled, fixedSampled;
+  };
+
   // Round 0 knows no albedo of a part to be fitted: its guess (photo median x pin) carries the
   // light's colour and level, so a solve over those pixels reads a warm light as neutral and
   // paints the warmth into the albedos. Parts of given material (`fixed`) do not: where they
   // fill enough of the views and every free light reaches them, round 0 solves on their pixels
   // alone, so colour and level come from known albedos. Else the whole light mask stays.
-  void anchorOnFixedParts(const Context& ctx, std::vector<lighting::ViewLightData>& data) const {
-    std::vector<cv::Mat> masks;
+  void anchorOnFixedParts(const std::vector<ViewMasks>& masks,
+                          std::vector<lighting::ViewLightData>& data) const {
     int pixels = 0, total = 0;
     std::vector<double> onFixed(data.empty() ? 0 : data[0].perLight.size(), 0.0);
     std::vector<double> onAll(onFixed.size(), 0.0);
     for (size_t v = 0; v < data.size(); ++v) {
-      std::vector<int> fixed;
-      for (const PartWork& p : ctx.parts)
-        if (p.mode == PartMode::Fixed) fixed.push_back(p.id);
-      cv::Mat m = photoMaskOf(ctx.views[v], fixed, data[v].mask.size()) & data[v].mask;
-      pixels += cv::countNonZero(m);
-      total += cv::countNonZero(data[v].mask);
+      const ViewMasks& m = masks[v];
+      const int nFixed = cv::countNonZero(m.fixed), nAll = cv::countNonZero(m.all);
+      pixels += nFixed;
+      total += nAll;
       for (size_t k = 0; k < onFixed.size() && k < data[v].perLight.size(); ++k) {
-        onFixed[k] += energy(data[v].perLight[k], m);
-        onAll[k] += energy(data[v].perLight[k], data[v].mask);
+        onFixed[k] += energy(data[v].perLight[k], m.fixedSampled, nFixed);
+        onAll[k] += energy(data[v].perLight[k], m.allSampled, nAll);
       }
-      masks.push_back(std::move(m));
     }
     const int minPixels = std::max(kAnchorMinPixels, static_cast<int>(kAnchorMinShare * total));
     if (pixels < minPixels) return;
@@ -193,7 +222,7 @@ class LightsStage : public Stage {
                      decl.name, k);
         return;
       }
-    for (size_t v = 0; v < data.size(); ++v) data[v].mask = masks[v];
+    for (size_t v = 0; v < data.size(); ++v) data[v].mask = masks[v].fixedSampled;
     spdlog::info("{}: anchored on the parts of given material ({} px of {})", decl.name, pixels,
                  total);
   }
@@ -208,11 +237,11 @@ class LightsStage : public Stage {
     return m;
   }
 
-  // sum over the mask of a render's three channels
-  static double energy(const cv::Mat& render, const cv::Mat& mask) {
-    const int n = cv::countNonZero(mask);
-    if (n == 0) return 0;
-    const cv::Scalar m = cv::mean(render, mask);
+  // the sum of a render's three channels over a mask of n pixels, from its `sampled` pixels
+  // (the render's traced ones): their mean times n
+  static double energy(const cv::Mat& render, const cv::Mat& sampled, int n) {
+    if (n == 0 || cv::countNonZero(sampled) == 0) return 0;
+    const cv::Scalar m = cv::mean(render, sampled);
     return (m[0] + m[1] + m[2]) * n;
   }
 

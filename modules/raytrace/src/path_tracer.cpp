@@ -658,6 +658,11 @@ std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights
   PS_Check(camera.width() > 0 && camera.height() > 0, "camera without size");
   Timer timer;
   const int W = camera.width(), H = camera.height();
+  const cv::Mat& only = options.pixels;
+  if (!only.empty())
+    PS_Check(only.type() == CV_8UC1 && only.cols == W && only.rows == H,
+             "path tracer: RenderOptions::pixels must be CV_8UC1 of the camera's size "
+                 << W << " x " << H);
   const int nImages = act.perLight ? static_cast<int>(act.scale.size()) : 1;
   std::vector<cv::Mat> images(nImages);
   for (cv::Mat& m : images) m = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
@@ -680,6 +685,7 @@ std::vector<cv::Mat> renderImages(const PathTracer& pt, const PathTracer::Lights
     std::vector<Vec3f> sample(nImages), sum(nImages);
     for (int64_t y = y0; y < y1; ++y)
       for (int x = 0; x < W; ++x) {
+        if (!only.empty() && !only.ptr<uint8_t>(static_cast<int>(y))[x]) continue;
         SobolSampler smp(options.seed, static_cast<uint64_t>(y) * W + x);
         std::fill(sum.begin(), sum.end(), Vec3f::Zero());
         // Welford over the samples' luminance (adaptive stop, variance guide); first-hit sums.

@@ -370,6 +370,37 @@ TEST(Raytrace_PerLight, one_trace_equals_one_light_at_a_time_with_the_same_numbe
   EXPECT_LT(stTogether.rays, raysAlone);
 }
 
+// RenderOptions::pixels: the traced pixels hold the whole render's values to the bit (each
+// pixel's sampler is its own), the others stay 0, in both render() and renderPerLight().
+TEST(Raytrace_PerLight, traced_pixels_equal_the_whole_render_and_the_rest_stay_black) {
+  const BoxRoomView room(48, 36);
+  RenderOptions opt;
+  opt.spp = 4;
+  opt.seed = 9;
+  const std::vector<cv::Mat> whole = room.tracer.renderPerLight(room.cam, opt);
+  const cv::Mat wholeSum = room.tracer.render(room.cam, opt);
+  RenderOptions some = opt;
+  some.pixels = cv::Mat::zeros(36, 48, CV_8UC1);
+  cv::circle(some.pixels, {20, 15}, 9, cv::Scalar(255), cv::FILLED);
+  for (int y = 0; y < 36; y += 3) some.pixels.at<uint8_t>(y, (7 * y) % 48) = 1;  // odd pixels
+  some.pixels.at<uint8_t>(35, 47) = 255;                                         // the last one
+  const cv::Mat outside = some.pixels == 0;
+  const std::vector<cv::Mat> part = room.tracer.renderPerLight(room.cam, some);
+  ASSERT_EQ(part.size(), whole.size());
+  for (size_t i = 0; i < part.size(); ++i) {
+    cv::Mat expected = whole[i].clone();
+    expected.setTo(cv::Scalar::all(0), outside);
+    EXPECT_GT(cv::norm(expected, cv::NORM_INF), 0.0) << "light " << i;
+    EXPECT_EQ(cv::norm(part[i], expected, cv::NORM_INF), 0.0) << "light " << i;
+  }
+  cv::Mat expected = wholeSum.clone();
+  expected.setTo(cv::Scalar::all(0), outside);
+  EXPECT_EQ(cv::norm(room.tracer.render(room.cam, some), expected, cv::NORM_INF), 0.0);
+  RenderOptions wrong = opt;
+  wrong.pixels = cv::Mat::ones(36, 47, CV_8UC1);
+  EXPECT_THROW(room.tracer.render(room.cam, wrong), Exception);
+}
+
 TEST(Raytrace_PerLight, per_light_images_match_one_light_renders_and_add_up_within_noise) {
   const BoxRoomView room(64, 48);
   RenderOptions opt;

@@ -139,4 +139,12 @@ struct LightSolution {
 /// view has a usable pixel or sizes disagree.
 LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOptions& options = {});
 
+/// The pixels of `mask` whose renders solveLights reads for a view with this photo (CV_8UC1,
+/// 255 there): the usable ones (photo finite, >= 0 and below options.saturation), every k-th in
+/// raster order where there are more than options.maxSamplesPerView, provided the renders are
+/// finite there (PathTracer's are). A caller that traces only these pixels and those of
+/// ViewLightData::direct (RenderOptions::pixels), and passes the result as the view's `mask`,
+/// gets the solution that whole renders give.
+cv::Mat solvePixels(const cv::Mat& photo, const cv::Mat& mask, const SolveOptions& options = {});
+
 }  // namespace ps::lighting

@@ -83,6 +83,11 @@ struct RenderOptions {
   /// glossy edges and penumbrae take the samples.
   float adaptiveThreshold = 0.0f;
   int adaptiveMinSpp = 16;
+  /// Optional: CV_8UC1 of the camera's size; only its non-zero pixels are traced, the others
+  /// stay 0 (and keep the guides' no-hit values). A traced pixel's value does not depend on
+  /// which others are traced (each pixel's sampler is seeded by its index), so a caller that
+  /// reads a few pixels (the light solve) gets them at the cost of those alone.
+  cv::Mat pixels;
   bool IsValid(std::string* error) const;
 };
 
