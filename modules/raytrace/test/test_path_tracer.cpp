@@ -384,18 +384,20 @@ TEST(Raytrace_PerLight, traced_pixels_equal_the_whole_render_and_the_rest_stay_b
   cv::circle(some.pixels, {20, 15}, 9, cv::Scalar(255), cv::FILLED);
   for (int y = 0; y < 36; y += 3) some.pixels.at<uint8_t>(y, (7 * y) % 48) = 1;  // odd pixels
   some.pixels.at<uint8_t>(35, 47) = 255;                                         // the last one
-  const cv::Mat outside = some.pixels == 0;
+  auto blackOutside = [&](const cv::Mat& image) {  // what the traced pixels alone should give
+    cv::Mat out = image.clone();
+    out.setTo(cv::Scalar::all(0), some.pixels == 0);
+    return out;
+  };
   const std::vector<cv::Mat> part = room.tracer.renderPerLight(room.cam, some);
   ASSERT_EQ(part.size(), whole.size());
   for (size_t i = 0; i < part.size(); ++i) {
-    cv::Mat expected = whole[i].clone();
-    expected.setTo(cv::Scalar::all(0), outside);
+    const cv::Mat expected = blackOutside(whole[i]);
     EXPECT_GT(cv::norm(expected, cv::NORM_INF), 0.0) << "light " << i;
     EXPECT_EQ(cv::norm(part[i], expected, cv::NORM_INF), 0.0) << "light " << i;
   }
-  cv::Mat expected = wholeSum.clone();
-  expected.setTo(cv::Scalar::all(0), outside);
-  EXPECT_EQ(cv::norm(room.tracer.render(room.cam, some), expected, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(room.tracer.render(room.cam, some), blackOutside(wholeSum), cv::NORM_INF),
+            0.0);
   RenderOptions wrong = opt;
   wrong.pixels = cv::Mat::ones(36, 47, CV_8UC1);
   EXPECT_THROW(room.tracer.render(room.cam, wrong), Exception);
