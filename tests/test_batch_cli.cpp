@@ -23,10 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using io::TempDir;
-
-using cli_test::contains;
-using cli_test::Result;
-using cli_test::runPhotoscene;
+using namespace cli_test;  // runPhotoscene, Result, contains (cli_run.hpp)
 
 /// A small valid scene in `dir` (cli_test::writeTinyCase, the scene of tests/test_cli.cpp's
 /// CliScene) with its photo's red channel at `shade`.

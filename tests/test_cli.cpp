@@ -24,10 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using io::TempDir;
-
-using cli_test::contains;
-using cli_test::Result;
-using cli_test::runPhotoscene;
+using namespace cli_test;  // runPhotoscene, Result, contains (cli_run.hpp)
 
 Mat4d lookAt(const Vec3d& eye, const Vec3d& target) { return io::lookAtWorldToCamera(eye, target); }
 
