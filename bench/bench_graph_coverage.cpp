@@ -62,19 +62,6 @@ namespace {
 
 using ps::bench::RealMaterial;
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  size_t a = 0;
-  while (a <= s.size()) {
-    const size_t b = s.find(',', a);
-    const std::string item = s.substr(a, b == std::string::npos ? std::string::npos : b - a);
-    if (!item.empty()) out.push_back(item);
-    if (b == std::string::npos) break;
-    a = b + 1;
-  }
-  return out;
-}
-
 // The flat render of maps: albedo * n_z (CV_32FC3).
 cv::Mat flatRender(const cv::Mat& albedo, const cv::Mat& normal) {
   cv::Mat out(albedo.size(), CV_32FC3);
@@ -241,12 +228,13 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
 
 int main(int argc, char** argv) {
   CLI::App app{"Coverage of the graph library against photographed materials (issue 18)"};
-  std::string data = "../shared/data", library, materialsArg, csvPath, sheetPath;
+  std::string data = "../shared/data", library, csvPath, sheetPath;
+  std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
-  app.add_option("--materials", materialsArg, "only these materials (comma list)");
+  app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
   app.add_option("--iterations", iterations, "Adam steps per graph (probes included)");
   app.add_option("--probe", probe, "Adam steps per scale before the best scale continues");
   app.add_option("--view", view, "view size in pixels (a power of two, >= 64)");
@@ -260,11 +248,11 @@ int main(int argc, char** argv) {
       throw ps::InputError("--view", "", "expected a power of two >= 64");
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
     std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
-    if (!materialsArg.empty()) {
-      const auto want = split(materialsArg);
+    if (!materialNames.empty()) {
       std::vector<RealMaterial> keep;
       for (const auto& m : mats)
-        if (std::find(want.begin(), want.end(), m.name) != want.end()) keep.push_back(m);
+        if (std::find(materialNames.begin(), materialNames.end(), m.name) != materialNames.end())
+          keep.push_back(m);
       mats = keep;
     }
     struct Row {
