@@ -94,15 +94,14 @@ class LightsStage : public Stage {
       // solve finds what is left of it, close to 1, so that scaling one photo scales its
       // exposure and changes nothing else (the alternation does not start far from it)
       d.photo = photo / exposure_[v];
-      ViewMasks vm;
-      vm.all = ctx.views[v].lightMask.clone();
+      cv::Mat all = ctx.views[v].lightMask.clone();
       if (const double clip = in.photoClip(v, 1.0); std::isfinite(clip)) {
         // an integer-coded photo clips (at 1): its saturated pixels (any channel) say nothing,
         // nor do they with the given emitters' light in the model (below); a float photo
         // (EXR, HDR) does not clip, and all of it counts at any exposure
         std::vector<cv::Mat> ch;
         cv::split(photo, ch);
-        for (const cv::Mat& c : ch) vm.all.setTo(0, c >= kSaturation * clip);
+        for (const cv::Mat& c : ch) all.setTo(0, c >= kSaturation * clip);
       }
       // where each free light is seen itself (its emitting parts, the windows that open onto
       // it): the solve pins it there (lighting/solve.hpp); taken before the anchor narrows the
@@ -110,16 +109,19 @@ class LightsStage : public Stage {
       for (int k : freeLights) {
         std::vector<int> own = lights[k]->emittingParts();
         for (int id : lights[k]->openingParts()) own.push_back(id);
-        d.direct.push_back(photoMaskOf(ctx.views[v], own, vm.all.size()) & vm.all);
+        d.direct.push_back(photoMaskOf(ctx.views[v], own, all.size()) & all);
       }
       // the pixels the solve reads (of the whole mask, of the fixed parts' if round 0 anchors
       // there, where a light is seen): the per-light renders trace those alone, with the values
       // that whole renders have there
-      vm.allSampled = lighting::solvePixels(d.photo, vm.all, so);
+      ViewMasks vm;
+      vm.allPixels = cv::countNonZero(all);
+      vm.allSampled = lighting::solvePixels(d.photo, all, so);
       cv::Mat traced = vm.allSampled.clone();
       if (mayAnchor) {
-        vm.fixed = photoMaskOf(ctx.views[v], fixedParts, vm.all.size()) & vm.all;
-        vm.fixedSampled = lighting::solvePixels(d.photo, vm.fixed, so);
+        const cv::Mat fixed = photoMaskOf(ctx.views[v], fixedParts, all.size()) & all;
+        vm.fixedPixels = cv::countNonZero(fixed);
+        vm.fixedSampled = lighting::solvePixels(d.photo, fixed, so);
         traced |= vm.fixedSampled;
       }
       for (const cv::Mat& m : d.direct) traced |= m;
@@ -186,11 +188,11 @@ class LightsStage : public Stage {
   }
 
  private:
-  // A view's pixel masks (CV_8UC1, render frame) and the pixels the solve reads of each
-  // (lighting::solvePixels), which are all that the per-light renders trace.
+  // Of a view's light mask less its clipped pixels (`all`) and of the parts of given material
+  // in it (`fixed`, round 0 only): the pixel counts and the pixels the solve reads
+  // (lighting::solvePixels, CV_8UC1, render frame), which are all that the renders trace.
   struct ViewMasks {
-    cv::Mat all;    ///< the light mask less clipped pixels
-    cv::Mat fixed;  ///< of `all`, the parts of given material (round 0 only)
+    int allPixels = 0, fixedPixels = 0;
     cv::Mat allSampled, fixedSampled;
   };
 
@@ -206,12 +208,11 @@ class LightsStage : public Stage {
     std::vector<double> onAll(onFixed.size(), 0.0);
     for (size_t v = 0; v < data.size(); ++v) {
       const ViewMasks& m = masks[v];
-      const int nFixed = cv::countNonZero(m.fixed), nAll = cv::countNonZero(m.all);
-      pixels += nFixed;
-      total += nAll;
+      pixels += m.fixedPixels;
+      total += m.allPixels;
       for (size_t k = 0; k < onFixed.size() && k < data[v].perLight.size(); ++k) {
-        onFixed[k] += energy(data[v].perLight[k], m.fixedSampled, nFixed);
-        onAll[k] += energy(data[v].perLight[k], m.allSampled, nAll);
+        onFixed[k] += energy(data[v].perLight[k], m.fixedSampled, m.fixedPixels);
+        onAll[k] += energy(data[v].perLight[k], m.allSampled, m.allPixels);
       }
     }
     const int minPixels = std::max(kAnchorMinPixels, static_cast<int>(kAnchorMinShare * total));
