@@ -42,7 +42,6 @@
 // --check (the ctest): exits 1 unless every case ran and every part of every case has a finite
 // RMSE, distance and time; exits 77 (ctest's skip code) when the data folder is absent.
 #include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,5 @@
 // `photoscene batch MANIFEST -o ROOT`: many scenes, locally (N at a time) or as a Slurm job array;
 // `photoscene batch --status ROOT`: what is done, failed (with the error) and pending.
-#include <spdlog/spdlog.h>
 #include <sys/wait.h>
 
 #include <cstdio>

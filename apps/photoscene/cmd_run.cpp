@@ -1,5 +1,4 @@
 // `photoscene run SCENE.json -o OUT` and the no-argument demo.
-#include <spdlog/spdlog.h>
 
 #include <filesystem>
 

@@ -4,7 +4,6 @@
 // what was expected; nothing is written); 1 anything else, including a stage not built yet;
 // 128 + the signal after SIGINT (130) or SIGTERM (143): the run stopped at a check point, every
 // file written is whole, and a rerun continues from the stage cache.
-#include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 

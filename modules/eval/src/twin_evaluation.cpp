@@ -1,7 +1,7 @@
 #include "photoscene/eval/twin_evaluation.hpp"
 
 #include <utility>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "photoscene/io/scene_json.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <cmath>
 #include <set>

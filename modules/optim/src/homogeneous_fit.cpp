@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/optim/part_fit.hpp"

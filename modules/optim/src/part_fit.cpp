@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"

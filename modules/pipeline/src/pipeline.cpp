@@ -3,7 +3,6 @@
 #include "photoscene/pipeline/pipeline.hpp"
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "photoscene/core.hpp"
 #include "photoscene/core/memory.hpp"

@@ -11,7 +11,6 @@
 #include <thread>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "photoscene/core.hpp"
 #include "photoscene/core/memory.hpp"

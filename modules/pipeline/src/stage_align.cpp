@@ -2,7 +2,7 @@
 // Eq. (1) box warp (align module); then per part, the view that sees it best, its aligned pixels
 // and median colour; then the scale pin of the neutral materials.
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/align.hpp"
 #include "stages.hpp"

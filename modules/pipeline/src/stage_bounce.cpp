@@ -18,7 +18,7 @@
 // part keeps its pattern (albedo scale and offset move, the map does not).
 #include <Eigen/Dense>
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #include <iterator>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/io/files.hpp"

@@ -7,7 +7,6 @@
 #include <fstream>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 #include <opencv2/imgproc.hpp>
 
 #include "photoscene/core.hpp"

@@ -3,8 +3,6 @@
 // small for a texture) in closed form (optim's fitHomogeneous).
 #include <cstdlib>
 
-#include <spdlog/spdlog.h>
-
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
 #include "photoscene/select/synthesis.hpp"

@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "archive_io.hpp"
 #include "stages.hpp"

@@ -8,7 +8,6 @@
 // factor, so the light comes from how shading varies within parts. The result is written
 // into the scene the later path tracers see.
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <limits>

@@ -1,7 +1,7 @@
 // Stage `poses`: each piece of furniture (an OBJ object) moved onto the parts the views' pinned
 // labels give it (align's fitObjectPoses); every later stage and the twin see the moved mesh.
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "archive_io.hpp"
 #include "stages.hpp"

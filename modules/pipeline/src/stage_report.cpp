@@ -3,7 +3,7 @@
 // report.html (report module) from what the output folder holds.
 #include <cmath>
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/core/memory.hpp"
 #include "photoscene/eval.hpp"

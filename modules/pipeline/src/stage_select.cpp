@@ -4,7 +4,7 @@
 // shortlist's short fits on the part under incident0 decide (select/synthesis.hpp).
 #include <cstdlib>
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include "photoscene/io.hpp"
 #include "photoscene/select.hpp"

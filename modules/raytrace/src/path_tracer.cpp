@@ -1,6 +1,6 @@
 #include "photoscene/raytrace/path_tracer.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <algorithm>
 #include <array>

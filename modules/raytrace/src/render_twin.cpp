@@ -1,6 +1,6 @@
 #include "photoscene/raytrace/render_twin.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <algorithm>
 

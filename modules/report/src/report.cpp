@@ -2,7 +2,7 @@
 // (report_data.hpp; report_gather.cpp and report_html.cpp).
 #include "photoscene/report/report.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <cstdlib>
 

@@ -1,7 +1,7 @@
 // Gathering the report (report_data.hpp): what a twin output folder holds, read into a
 // ReportData, and the derived files the page links, written (difference images, sRGB copies of
 // photos, candidate graph previews, the viewer's scripts).
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <algorithm>
 #include <cmath>

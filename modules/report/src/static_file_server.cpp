@@ -3,7 +3,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 #include <sys/socket.h>
 #include <unistd.h>
 

@@ -1,6 +1,6 @@
 #include "photoscene/scene/gltf_export.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>

@@ -1,6 +1,6 @@
 #include "photoscene/scene/material.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <cmath>
 #include <fstream>

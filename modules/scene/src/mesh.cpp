@@ -1,6 +1,6 @@
 #include "photoscene/scene/mesh.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <Eigen/Geometry>
 

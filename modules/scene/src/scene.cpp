@@ -1,6 +1,6 @@
 #include "photoscene/scene/scene.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <set>
 #include <sstream>

@@ -1,6 +1,6 @@
 #include "photoscene/select/exemplar_bank.hpp"
 
-#include <spdlog/spdlog.h>
+#include "photoscene/core/log.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
