@@ -9,11 +9,14 @@
 //
 // Outputs (paths relative to OUT_FOLDER):
 //   scene.json            the input of `photoscene run` (view 0 = the photo; lights to fit)
-//   room.obj              coarse geometry;  room_exact.obj  the geometry the photo was rendered
-//   from photos/view0.png      the photo (sRGB 8-bit);  segments/view0.png  16-bit labels (1000 +
-//   part) cameras/novel0.json   a novel camera;  lights_relit.json  the relit lights gt/twin/ the
-//   ground truth in the output-folder format (render it: the photo) gt/view0.exr,
-//   gt/novel0.{exr,png}, gt/relit0.{exr,png}   ground-truth renders
+//   room.obj              coarse geometry
+//   room_exact.obj        the geometry the photo was rendered from
+//   photos/view0.png      the photo (sRGB 8-bit)
+//   segments/view0.png    16-bit labels (1000 + part)
+//   cameras/novel0.json   a novel camera
+//   lights_relit.json     the relit lights
+//   gt/twin/              the ground truth in the output-folder format (render it: the photo)
+//   gt/view0.exr, gt/novel0.{exr,png}, gt/relit0.{exr,png}   ground-truth renders
 
 #include <cstdio>
 #include <cstdlib>
