@@ -17,6 +17,7 @@
 
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
+#include "photoscene/core/interrupt.hpp"
 #include "photoscene/core/math.hpp"
 #include "photoscene/core/parallel.hpp"
 #include "photoscene/core/progress.hpp"
@@ -258,6 +259,9 @@ ExemplarBank ExemplarBank::build(const GraphLibrary& library, const ExemplarBank
   parallelFor(0, graphs, [&](int64_t g) {
     MaterialGraph graph = library.create(bank.graphNames_[g]);
     for (int d = 0; d < options.drawsPerGraph; ++d) {
+      // Ctrl-C stops the build within a draw (a fraction of a second; the whole build takes a
+      // minute or more): the exception cancels the other graphs' tasks and nothing is saved
+      checkInterrupted();
       const uint64_t seed = drawSeed(options, bank.graphNames_[g], d);
       graph.setValues(bankDrawValues(graph, options, d));
       const MaterialMaps maps =

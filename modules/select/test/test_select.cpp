@@ -101,6 +101,28 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
   EXPECT_EQ(ExemplarBank::load(file, library().contentHash(), small).rows(), 0);
 }
 
+TEST(Select_Bank, an_interrupted_build_saves_nothing_and_the_next_one_completes) {
+  // Ctrl-C while the bank builds (a minute or more on a first run): ps::Interrupted out of the
+  // build, no cache file (a half bank must never load), the lock given back for the next build
+  ExemplarBankOptions small;
+  small.drawsPerGraph = 1;
+  small.uvScales = {2.0f};
+  small.observedPerDraw = 0;
+  small.renderSize = 32;
+  small.mapSize = 32;
+  io::TempDir dir;
+  const auto file = dir / ExemplarBank::cacheFileName(library(), small);
+  requestInterrupt();
+  EXPECT_THROW(ExemplarBank::loadOrBuild(library(), small, dir.path()), Interrupted);
+  clearInterrupt();
+  EXPECT_FALSE(std::filesystem::exists(file));
+  bool cached = true;
+  const ExemplarBank b = ExemplarBank::loadOrBuild(library(), small, dir.path(), &cached);
+  EXPECT_FALSE(cached);
+  EXPECT_EQ(b.rows(), library().size());
+  EXPECT_TRUE(std::filesystem::exists(file));
+}
+
 /// A small exhaustive bank: `draws` per graph at 2 and 3 repeats, `observed` observed renderings
 /// per draw, patches of `size` pixels from maps of 64.
 ExemplarBankOptions smallBank(int draws, int observed, int size) {
