@@ -101,28 +101,6 @@ TEST(Select_Bank, cache_round_trip_and_invalidation) {
   EXPECT_EQ(ExemplarBank::load(file, library().contentHash(), small).rows(), 0);
 }
 
-TEST(Select_Bank, an_interrupted_build_saves_nothing_and_the_next_one_completes) {
-  // Ctrl-C while the bank builds (a minute or more on a first run): ps::Interrupted out of the
-  // build, no cache file (a half bank must never load), the lock given back for the next build
-  ExemplarBankOptions small;
-  small.drawsPerGraph = 1;
-  small.uvScales = {2.0f};
-  small.observedPerDraw = 0;
-  small.renderSize = 32;
-  small.mapSize = 32;
-  io::TempDir dir;
-  const auto file = dir / ExemplarBank::cacheFileName(library(), small);
-  requestInterrupt();
-  EXPECT_THROW(ExemplarBank::loadOrBuild(library(), small, dir.path()), Interrupted);
-  clearInterrupt();
-  EXPECT_FALSE(std::filesystem::exists(file));
-  bool cached = true;
-  const ExemplarBank b = ExemplarBank::loadOrBuild(library(), small, dir.path(), &cached);
-  EXPECT_FALSE(cached);
-  EXPECT_EQ(b.rows(), library().size());
-  EXPECT_TRUE(std::filesystem::exists(file));
-}
-
 /// A small exhaustive bank: `draws` per graph at 2 and 3 repeats, `observed` observed renderings
 /// per draw, patches of `size` pixels from maps of 64.
 ExemplarBankOptions smallBank(int draws, int observed, int size) {
@@ -134,6 +112,23 @@ ExemplarBankOptions smallBank(int draws, int observed, int size) {
   o.mapSize = 64;
   o.indexType = KnnIndexType::Linear;
   return o;
+}
+
+TEST(Select_Bank, an_interrupted_build_saves_nothing_and_the_next_one_completes) {
+  // Ctrl-C while the bank builds (a minute or more on a first run): ps::Interrupted out of the
+  // build, no cache file (a half bank must never load), the lock given back for the next build
+  const ExemplarBankOptions small = smallBank(1, 0, 32);
+  io::TempDir dir;
+  const auto file = dir / ExemplarBank::cacheFileName(library(), small);
+  requestInterrupt();
+  EXPECT_THROW(ExemplarBank::loadOrBuild(library(), small, dir.path()), Interrupted);
+  clearInterrupt();
+  EXPECT_FALSE(std::filesystem::exists(file));
+  bool cached = true;
+  const ExemplarBank b = ExemplarBank::loadOrBuild(library(), small, dir.path(), &cached);
+  EXPECT_FALSE(cached);
+  EXPECT_EQ(b.rows(), 2 * library().size());
+  EXPECT_TRUE(std::filesystem::exists(file));
 }
 
 // The vote names each graph's nearest draw, and bankDrawValues gives that draw's values: a query
