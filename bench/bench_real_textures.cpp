@@ -1049,7 +1049,7 @@ int main(int argc, char** argv) {
   // these replaces the preset's settings by the preset's own (synthesisPreset) plus the ones given
   SynthesisOptions synthesis;
   int startDraw = SynthesisOptions{}.startFromNearestDraw,
-      warmFit = SynthesisOptions{}.warmStartFit;
+      warmFit = SynthesisOptions{}.warmStartFit, heldOut = SynthesisOptions{}.heldOut;
   app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
   app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
   app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
@@ -1067,6 +1067,8 @@ int main(int argc, char** argv) {
                  "1: finalists start from their nearest draw, 0: from their defaults");
   app.add_option("--select-warm-fit", warmFit,
                  "1: the fit goes on from the synthesis winner, 0: starts from the defaults");
+  app.add_option("--select-held-out", heldOut,
+                 "1: finalists fitted on one half of a part, scored on the other; 0: on the whole");
   std::string fitViews;
   app.add_option("--fit-views", fitViews,
                  "best: each part fitted in the view that sees it best; all: a homogeneous part over "
@@ -1098,7 +1100,8 @@ int main(int argc, char** argv) {
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
                            "--select-contrast-ratio", "--select-chroma-ratio",
-                           "--select-coarse-scale", "--select-start-draw", "--select-warm-fit"})
+                           "--select-coarse-scale", "--select-start-draw", "--select-warm-fit",
+                           "--select-held-out"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1112,6 +1115,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-chroma-ratio")) s.maxChromaRatio = synthesis.maxChromaRatio;
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
+      s.heldOut = heldOut != 0;
       o.selection = s;
     }
 

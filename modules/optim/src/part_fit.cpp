@@ -719,4 +719,43 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   return res;
 }
 
+PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
+                        const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, const PartFitOptions& options,
+                        bool matchMeans) {
+  std::string err;
+  PS_Check(options.IsValid(&err), "scorePart: invalid options: " + err);
+  PS_Check(photo.type() == CV_32FC3 && photo.size() == geometry.imageSize,
+           "scorePart: photo must be CV_32FC3 of the geometry's size");
+  PS_Check(target.imageSize() == geometry.imageSize,
+           "scorePart: texture-loss target and geometry sizes differ");
+  PS_Check(geometry.size() > 0, "scorePart: the part has no pixels");
+  PS_Check(static_cast<int>(state.values.size()) == graph.valueCount(),
+           "scorePart: the state has " << state.values.size() << " values, graph " << graph.name()
+                                       << " " << graph.valueCount());
+  const Timer timer;
+  PartFitOptions o = options;
+  o.coarseLevels = o.searchLevels = 0;  // one level: nothing is fitted
+  PartFitter f(graph, geometry, photo, target, o);
+  PartFitResult res;
+  res.values = state.values;
+  res.uv = state.uv;
+  res.roughness = state.roughness;
+  res.roughnessScale = state.roughnessScale;
+  if (o.roughnessPriorWeight > 0) res.roughnessPrior = f.prior();
+  res.highlightPixels = f.highlightPixels();
+  const PartFitter::Eval e =
+      f.evaluate(0, f.maps(state.values), state.uv, state.roughness, o.specularSub, nullptr, &res.render,
+                 matchMeans);
+  res.loss = res.initialLoss = e.loss;
+  res.lossStat = e.stat;
+  res.lossTexture = res.initialTextureLoss = e.tex;
+  res.lossPlacement = e.place;
+  res.lossPrior = e.prior;
+  res.lossHighlight = e.highlight;
+  res.lossCeiling = e.ceiling;
+  res.seconds = timer.seconds();
+  return res;
+}
+
 }  // namespace ps

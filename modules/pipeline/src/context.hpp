@@ -114,6 +114,7 @@ struct PartWork {
   struct Finalist {
     std::string graph, category;
     double vote = 0, loss = 0, seconds = 0;
+    double fitLoss = 0;  ///< the short fits' loss on their own pixels (loss: on held-back ones)
     double pixelRmse = 0, contrast = 0;  ///< its render's masked RMSE and typical local contrast
     double coarseContrast = 0;  ///< the typical local contrast at the coarse scale (synthesis)
     double chroma = 0;          ///< its render's chromaticity spread (synthesis)
@@ -123,6 +124,7 @@ struct PartWork {
   double photoContrast = 0;  ///< the photo's typical local contrast over the part (synthesis)
   double photoCoarseContrast = 0;  ///< the same at the coarse scale
   double photoChroma = 0;          ///< the photo's chromaticity spread over the part
+  bool heldOut = false;  ///< the finalists were scored on held-back pixels (synthesis)
   /// the graph whose full fit was rejected for more structure than the photo shows (fit), else
   /// empty
   std::string textureRejected;

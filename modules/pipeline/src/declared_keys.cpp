@@ -122,7 +122,9 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.coarseContrastScale)
           .add(s.maxChromaRatio)
           .add(s.startFromNearestDraw)
-          .add(s.warmStartFit);
+          .add(s.warmStartFit)
+          .add(s.heldOut)
+          .add(s.minHeldOutPixels);
     } else {
       h.add(0);
     }

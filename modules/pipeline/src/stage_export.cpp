@@ -156,6 +156,7 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
                                            {"category", f.category},
                                            {"vote", f.vote},
                                            {"loss", f.loss},
+                                           {"fit_loss", f.fitLoss},
                                            {"pixel_rmse", f.pixelRmse},
                                            {"contrast", f.contrast},
                                            {"contrast_coarse", f.coarseContrast},
@@ -166,6 +167,8 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
         m.fitExtra["photo_contrast"] = p.photoContrast;
         m.fitExtra["photo_contrast_coarse"] = p.photoCoarseContrast;
         m.fitExtra["photo_chroma_spread"] = p.photoChroma;
+        // the finalists' `loss` is on held-back pixels (fitted on one half, scored on the other)
+        m.fitExtra["held_out"] = p.heldOut;
         // the cell size of the `_coarse` contrasts (pixels a side), for whoever reads them
         if (p.photoCoarseContrast > 0)
           m.fitExtra["coarse_contrast_scale"] = in.synthesisOptions().coarseContrastScale;

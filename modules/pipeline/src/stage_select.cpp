@@ -36,8 +36,9 @@ class SelectStage : public Stage {
     // faces of a part brought to one level before the vote (preparePartTexture), and the
     // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 10: a
     // part's size for the small-part rule is its interior (interiorPixels), not its pixel count;
-    // 11: a textured finalist's chromaticity spread at most maxChromaRatio x the photo's
-    decl.version = 11;
+    // 11: a textured finalist's chromaticity spread at most maxChromaRatio x the photo's; 12:
+    // finalists fitted on one half of the part and scored on the other (SynthesisOptions::heldOut)
+    decl.version = 12;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -52,6 +53,7 @@ class SelectStage : public Stage {
     p.candidates.clear();
     p.finalists.clear();
     p.photoContrast = p.photoCoarseContrast = p.photoChroma = 0;
+    p.heldOut = false;
     p.startValues.clear();
     p.startUv = UvParams();
     if (const auto& forced = in.partGraph(u)) {
@@ -102,9 +104,11 @@ class SelectStage : public Stage {
           p.photoContrast = s.photoContrast;
           p.photoCoarseContrast = s.photoCoarseContrast;
           p.photoChroma = s.photoChroma;
+          p.heldOut = s.heldOut;
           for (const SynthesisFinalist& f : s.finalists) {
-            p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds, f.pixelRmse,
-                                   f.contrast, f.coarseContrast, f.chroma, f.qualifies});
+            p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds, f.fitLoss,
+                                   f.pixelRmse, f.contrast, f.coarseContrast, f.chroma,
+                                   f.qualifies});
             // the fit goes on from the winner's short fit instead of starting over
             if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
                 p.startValues.empty()) {
@@ -145,14 +149,15 @@ class SelectStage : public Stage {
     for (const PartWork::Finalist& f : p.finalists) {
       a.putString(f.graph);
       a.putString(f.category);
-      for (double x :
-           {f.vote, f.loss, f.seconds, f.pixelRmse, f.contrast, f.coarseContrast, f.chroma})
+      for (double x : {f.vote, f.loss, f.seconds, f.fitLoss, f.pixelRmse, f.contrast,
+                       f.coarseContrast, f.chroma})
         a.put(x);
       a.put<uint8_t>(f.qualifies ? 1 : 0);
     }
     a.put(p.photoContrast);
     a.put(p.photoCoarseContrast);
     a.put(p.photoChroma);
+    a.put<uint8_t>(p.heldOut ? 1 : 0);
     a.putVector(p.startValues);
     for (float f : {p.startUv.rotation, p.startUv.logScale, p.startUv.offset.x(),
                     p.startUv.offset.y()})
@@ -179,6 +184,7 @@ class SelectStage : public Stage {
       f.vote = a.get<double>();
       f.loss = a.get<double>();
       f.seconds = a.get<double>();
+      f.fitLoss = a.get<double>();
       f.pixelRmse = a.get<double>();
       f.contrast = a.get<double>();
       f.coarseContrast = a.get<double>();
@@ -188,6 +194,7 @@ class SelectStage : public Stage {
     p.photoContrast = a.get<double>();
     p.photoCoarseContrast = a.get<double>();
     p.photoChroma = a.get<double>();
+    p.heldOut = a.get<uint8_t>() != 0;
     p.startValues = a.getVector<float>();
     p.startUv.rotation = a.get<float>();
     p.startUv.logScale = a.get<float>();

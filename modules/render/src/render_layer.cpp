@@ -157,6 +157,30 @@ PartGeometry preparePartGeometry(const GBuffer& gb, const Vec3f& cameraCenter, c
   return g;
 }
 
+PartGeometry subsetPartGeometry(const PartGeometry& f, const std::vector<int>& keep) {
+  PS_Check(f.data.size() == f.pixels.size() && f.light.size() == f.pixels.size() * static_cast<size_t>(f.bins) * 3,
+           "subsetPartGeometry: inconsistent PartGeometry");
+  PartGeometry s;
+  s.imageSize = f.imageSize;
+  s.part = f.part;
+  s.bins = f.bins;
+  s.thetaBins = f.thetaBins;
+  s.phiBins = f.phiBins;
+  s.binSolidAngle = f.binSolidAngle;
+  s.binDir = f.binDir;
+  const size_t B3 = static_cast<size_t>(f.bins) * 3;
+  s.pixels.reserve(keep.size());
+  s.data.reserve(keep.size());
+  s.light.reserve(keep.size() * B3);
+  for (int k : keep) {
+    PS_Check(k >= 0 && k < f.size(), "subsetPartGeometry: pixel index " << k << " out of range");
+    s.pixels.push_back(f.pixels[k]);
+    s.data.push_back(f.data[k]);
+    s.light.insert(s.light.end(), f.light.begin() + k * B3, f.light.begin() + (k + 1) * B3);
+  }
+  return s;
+}
+
 PartGeometry downsamplePartGeometry(const PartGeometry& f, cv::Mat* maskOut) {
   PS_Check(f.data.size() == f.pixels.size() && f.light.size() == f.pixels.size() * static_cast<size_t>(f.bins) * 3,
            "downsamplePartGeometry: inconsistent PartGeometry");

@@ -153,8 +153,36 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "coarseContrastScale must be >= 0, got " << coarseContrastScale;
   else if (!(maxChromaRatio >= 0))
     os << "maxChromaRatio must be >= 0, got " << maxChromaRatio;
+  else if (minHeldOutPixels < 1)
+    os << "minHeldOutPixels must be >= 1, got " << minHeldOutPixels;
   if (error) *error = os.str();
   return os.str().empty();
+}
+
+bool splitPartInHalves(const PartGeometry& geometry, int minPixels, std::vector<int> halves[2]) {
+  const int n = geometry.size();
+  if (n < 2 || n / 2 < minPixels) return false;
+  // the principal axis of the pixel positions (the 2 x 2 covariance's leading eigenvector)
+  double mx = 0, my = 0;
+  for (const cv::Point& q : geometry.pixels) mx += q.x, my += q.y;
+  mx /= n, my /= n;
+  double cxx = 0, cyy = 0, cxy = 0;
+  for (const cv::Point& q : geometry.pixels) {
+    const double dx = q.x - mx, dy = q.y - my;
+    cxx += dx * dx, cyy += dy * dy, cxy += dx * dy;
+  }
+  const double angle = 0.5 * std::atan2(2 * cxy, cxx - cyy);
+  const double ax = std::cos(angle), ay = std::sin(angle);
+  std::vector<std::pair<double, int>> along(n);
+  for (int k = 0; k < n; ++k)
+    along[k] = {ax * geometry.pixels[k].x + ay * geometry.pixels[k].y, k};
+  // ties broken by index: the same halves on every platform
+  std::nth_element(along.begin(), along.begin() + n / 2, along.end());
+  halves[0].clear();
+  halves[1].clear();
+  for (int k = 0; k < n; ++k) halves[k < n / 2 ? 0 : 1].push_back(along[k].second);
+  for (int h = 0; h < 2; ++h) std::sort(halves[h].begin(), halves[h].end());
+  return true;
 }
 
 std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
@@ -214,6 +242,16 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   out.photoContrast = photoContrast.fine.median;
   out.photoCoarseContrast = photoContrast.coarse.median;
   out.photoChroma = photoContrast.chroma.spread;
+  // held-back pixels: the part in two halves, each with its own texture-loss target
+  std::vector<int> halfIndex[2];
+  out.heldOut = options.heldOut && splitPartInHalves(geometry, options.minHeldOutPixels, halfIndex);
+  std::vector<PartGeometry> halves;
+  std::vector<TextureLossTarget> halfTargets;
+  if (out.heldOut)
+    for (int h = 0; h < 2; ++h) {
+      halves.push_back(subsetPartGeometry(geometry, halfIndex[h]));
+      halfTargets.emplace_back(photo, maskOf(halves[h], photo.size()), target.options());
+    }
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
     PartFitOptions o = fit;
@@ -224,9 +262,31 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     if (options.startFromNearestDraw && bank && f.draw > 0 && f.graph != kHomogeneous)
       graph.setValues(bankDrawValues(graph, *bank, f.draw));
     const Timer t;
-    f.fit = f.graph == kHomogeneous ? homogeneousPartFit(library, geometry, photo, target, fit)
-                                    : fitPart(graph, geometry, photo, target, o);
-    f.loss = f.fit.loss;
+    auto shortFit = [&](const PartGeometry& g, const TextureLossTarget& tg) {
+      return f.graph == kHomogeneous ? homogeneousPartFit(library, g, photo, tg, fit)
+                                     : fitPart(graph, g, photo, tg, o);
+    };
+    if (!out.heldOut) {
+      f.fit = shortFit(geometry, target);
+      f.loss = f.fitLoss = f.fit.loss;
+    } else {
+      // fitted on each half, scored on the other with the render's channel means matched to the
+      // held-back photo's: what is tested is the freedom a graph has beyond the mean colour that
+      // every finalist has (its pattern); the mean's error across the part is the incident
+      // light's, common to all. The tests below read the fits' renders on their own halves (what
+      // the fit stage's full fit will show).
+      const PartFitResult fits[2] = {shortFit(halves[0], halfTargets[0]),
+                                     shortFit(halves[1], halfTargets[1])};
+      f.loss = f.fitLoss = 0;
+      for (int h = 0; h < 2; ++h) {
+        const PartFitResult held =
+            scorePart(graph, fits[1 - h], halves[h], photo, halfTargets[h], fit, true);
+        f.loss += 0.5 * held.loss;
+        f.fitLoss += 0.5 * fits[h].loss;
+      }
+      f.fit = fits[0];
+      f.fit.render = fits[0].render + fits[1].render;  // each zero off its half
+    }
     f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
     const Contrasts c = contrastsOf(f.fit.render, partMask, options);
     f.contrast = c.fine.median;

@@ -133,6 +133,10 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   // 0.013), and the true graph's short fit from its defaults needs more steps to beat it by the
   // margin: 0.0159 at 10 steps, 0.0120 at 20 (was 0.0337 against 0.0440 at 10)
   const SynthesisChoice c = choose(lib, s, votes, 3, 20);
+  for (const SynthesisFinalist& f : c.finalists)
+    std::printf("  %-16s loss %.4f (own pixels %.4f) rmse %.4f contrast %.4f %s\n", f.graph.c_str(),
+                f.loss, f.fitLoss, f.pixelRmse, f.contrast, f.qualifies ? "" : "(fails a test)");
+  std::printf("part %d px, held out %d\n", s.geo.size(), c.heldOut);
   EXPECT_EQ(c.graph, "wood_planks");
   EXPECT_EQ(c.category, "wood");
   ASSERT_EQ(c.finalists.size(), 4u);  // three graphs and homogeneous
@@ -201,6 +205,125 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
   ASSERT_NE(winner, on.finalists.end());
   EXPECT_LE(winner->contrast, SynthesisOptions{}.maxContrastRatio * on.photoContrast);
   EXPECT_NE(on.graph, off.graph);
+}
+
+TEST(Select_Synthesis, halves_of_a_part_are_equal_disjoint_and_cut_across_its_length) {
+  // a wide band of pixels with a hole: the cut runs across the long (x) extent
+  PartGeometry g;
+  g.imageSize = cv::Size(120, 40);
+  for (int y = 5; y < 35; ++y)
+    for (int x = 2; x < 118; ++x)
+      if (!(x > 50 && x < 60 && y > 15 && y < 25)) g.pixels.emplace_back(x, y);
+  std::vector<int> h[2];
+  ASSERT_TRUE(splitPartInHalves(g, 100, h));
+  EXPECT_EQ(h[0].size() + h[1].size(), g.pixels.size());
+  EXPECT_LE(std::abs(static_cast<int>(h[0].size()) - static_cast<int>(h[1].size())), 1);
+  std::vector<int> all = h[0];
+  all.insert(all.end(), h[1].begin(), h[1].end());
+  std::sort(all.begin(), all.end());
+  for (size_t i = 0; i < all.size(); ++i) ASSERT_EQ(all[i], static_cast<int>(i));
+  // one side of a vertical line each
+  int maxX0 = 0, minX1 = g.imageSize.width;
+  for (int k : h[0]) maxX0 = std::max(maxX0, g.pixels[k].x);
+  for (int k : h[1]) minX1 = std::min(minX1, g.pixels[k].x);
+  EXPECT_LE(maxX0, minX1);
+  // too small a part for two halves of 100: no halves
+  EXPECT_FALSE(splitPartInHalves(g, static_cast<int>(g.pixels.size()) / 2 + 1, h));
+  PartGeometry one;
+  one.imageSize = g.imageSize;
+  one.pixels.emplace_back(3, 3);
+  EXPECT_FALSE(splitPartInHalves(one, 1, h));
+  std::string why;
+  SynthesisOptions bad;
+  bad.minHeldOutPixels = 0;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("minHeldOutPixels"), std::string::npos);
+}
+
+TEST(Select_Synthesis, held_back_pixels_reject_a_texture_fitted_to_edges_on_one_half) {
+  // A plain floor with strong edges drawn on one of its halves only (a mat's outline and a
+  // bright strip on the half the split puts first). Fitted and scored on the whole part (and
+  // without the contrast and colour tests) a texture spreads that edge energy over the floor and
+  // wins; fitted on one half and scored on the other it explains neither half better than the
+  // flat material: the floor stays homogeneous.
+  const GraphLibrary lib = GraphLibrary::load();
+  Part s = renderFloor(nullptr);
+  std::vector<int> h[2];
+  ASSERT_TRUE(splitPartInHalves(s.geo, SynthesisOptions{}.minHeldOutPixels, h))
+      << s.geo.size() << " pixels";
+  cv::Mat half0 = cv::Mat::zeros(s.photo.size(), CV_8UC1);
+  for (int k : h[0]) half0.at<uint8_t>(s.geo.pixels[k]) = 255;
+  const cv::Rect box = cv::boundingRect(half0);
+  cv::Mat drawn = s.photo.clone();
+  cv::rectangle(drawn,
+                cv::Rect(box.x + box.width / 5, box.y + box.height / 4, box.width / 2,
+                         box.height / 2),
+                cv::Scalar(0.01, 0.01, 0.01), 2);
+  cv::line(drawn, cv::Point(box.x + box.width / 8, box.y + box.height * 4 / 5),
+           cv::Point(box.x + box.width * 7 / 8, box.y + box.height * 3 / 5),
+           cv::Scalar(0.9, 0.85, 0.8), 3);
+  drawn.copyTo(s.photo, half0);  // on half 0 only
+  const std::vector<GraphVote> votes = {vote("tile_checker", "tile", 3),
+                                        vote("wood_planks", "wood", 2)};
+  PartFitOptions fit = PartFitOptions::preset("fast");
+  fit.mapSize = 64;
+  SynthesisOptions o;
+  o.shortlist = 2;
+  o.steps = 10;
+  o.maxPixelErrorRatio = o.maxContrastRatio = o.maxChromaRatio = 0;  // the loss alone decides
+  const TextureLossTarget target(s.photo, s.mask);
+  o.heldOut = false;
+  const SynthesisChoice whole = chooseBySynthesis(lib, votes, s.geo, s.photo, target, fit, o);
+  o.heldOut = true;
+  const SynthesisChoice held = chooseBySynthesis(lib, votes, s.geo, s.photo, target, fit, o);
+  EXPECT_FALSE(whole.heldOut);
+  EXPECT_TRUE(held.heldOut);
+  std::printf("whole part: %s; held-back pixels: %s\n", whole.graph.c_str(), held.graph.c_str());
+  for (const SynthesisFinalist& f : held.finalists) {
+    EXPECT_TRUE(std::isfinite(f.loss) && std::isfinite(f.fitLoss)) << f.graph;
+    // the held-back render covers the whole part: each half drawn with the other's fit
+    int unlit = 0;
+    for (const cv::Point& q : s.geo.pixels) unlit += f.fit.render.at<cv::Vec3f>(q) == cv::Vec3f();
+    EXPECT_EQ(unlit, 0) << f.graph;
+    std::printf("  %-14s held-back loss %.4f, on its own pixels %.4f, pixel RMSE %.4f\n",
+                f.graph.c_str(), f.loss, f.fitLoss, f.pixelRmse);
+  }
+  EXPECT_NE(whole.graph, "homogeneous");
+  EXPECT_EQ(held.graph, "homogeneous");
+}
+
+TEST(Select_Synthesis, scoring_a_fit_on_its_own_pixels_gives_its_loss) {
+  // scorePart of a fitPart result on the same geometry reproduces the fit's loss and render;
+  // on a half it renders that half's pixels only
+  const GraphLibrary lib = GraphLibrary::load();
+  const Part s = renderFloor(nullptr);
+  PartFitOptions fit = PartFitOptions::preset("fast");
+  fit.mapSize = 64;
+  fit.maxIterations = 6;
+  const TextureLossTarget target(s.photo, s.mask);
+  const MaterialGraph graph = lib.create("wood_planks");
+  const PartFitResult r = fitPart(graph, s.geo, s.photo, target, fit);
+  const PartFitResult again = scorePart(graph, r, s.geo, s.photo, target, fit);
+  EXPECT_NEAR(again.loss, r.loss, 1e-9 + 1e-6 * r.loss);
+  EXPECT_NEAR(again.lossTexture, r.lossTexture, 1e-9 + 1e-6 * r.lossTexture);
+  EXPECT_EQ(cv::norm(again.render, r.render, cv::NORM_INF), 0.0);
+  std::vector<int> h[2];
+  ASSERT_TRUE(splitPartInHalves(s.geo, 100, h));
+  const PartGeometry half = subsetPartGeometry(s.geo, h[1]);
+  ASSERT_EQ(half.size(), static_cast<int>(h[1].size()));
+  cv::Mat halfMask = cv::Mat::zeros(s.photo.size(), CV_8UC1);
+  for (const cv::Point& q : half.pixels) halfMask.at<uint8_t>(q) = 255;
+  const PartFitResult onHalf =
+      scorePart(graph, r, half, s.photo, TextureLossTarget(s.photo, halfMask), fit);
+  EXPECT_TRUE(std::isfinite(onHalf.loss));
+  // the layer shades each pixel from its own geometry: the half's pixels as in the whole render
+  double worst = 0;
+  for (const cv::Point& q : half.pixels)
+    worst = std::max(worst, cv::norm(onHalf.render.at<cv::Vec3f>(q) - r.render.at<cv::Vec3f>(q)));
+  EXPECT_LT(worst, 1e-6);
+  cv::Mat off;
+  cv::bitwise_not(halfMask, off);
+  EXPECT_EQ(cv::norm(onHalf.render, cv::NORM_INF, off), 0.0);
 }
 
 /// A grainy photo (white noise of `spread` around 0.4), the same grain off-register (moved by

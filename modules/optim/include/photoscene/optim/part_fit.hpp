@@ -205,4 +205,16 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
                       const TextureLossTarget& target, const PartFitOptions& options,
                       const UvParams& initialUv = {});
 
+/// The loss of a fitted state (`state`'s values, UV transform and held roughness, as fitPart
+/// returned them) on a part's geometry that the fit may not have seen: other pixels of the part
+/// (held back), another view. No steps and no search; fills the loss terms and the render,
+/// values / uv / roughness / roughnessScale are the state's.
+/// @param graph the graph the state's values belong to
+/// @param matchMeans the render's channel means over the geometry's pixels are first scaled to
+///                   the photo's (as the UV search compares patterns, not colours)
+PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
+                        const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, const PartFitOptions& options,
+                        bool matchMeans = false);
+
 }  // namespace ps

@@ -97,6 +97,10 @@ PartGeometry preparePartGeometry(const GBuffer& gbuffer, const Vec3f& cameraCent
 /// @param mask  if not null, receives the coarse mask (CV_8UC1, 255 on the kept pixels)
 PartGeometry downsamplePartGeometry(const PartGeometry& fine, cv::Mat* mask = nullptr);
 
+/// The same part restricted to some of its pixels (`keep`: indices into fine.pixels, each once;
+/// order kept): held-back pixels, one half of a part. Same image size, lighting and bins.
+PartGeometry subsetPartGeometry(const PartGeometry& fine, const std::vector<int>& keep);
+
 /// 2 x 2 box average of a CV_32FC3 image of `fine`'s size onto `coarse`'s pixels (0 elsewhere):
 /// the photo as downsamplePartGeometry's geometry sees it.
 cv::Mat downsampleImage(const PartGeometry& coarse, const cv::Mat& fineImage);

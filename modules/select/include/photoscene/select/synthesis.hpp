@@ -78,6 +78,21 @@ struct SynthesisOptions {
   /// white chair went to tile_encaustic in blue and orange (the mean colour right, the loss
   /// satisfied) and a white refrigerator to a striped rug in rainbow speckles.
   double maxChromaRatio = 1.5;
+  /// Model selection on held-back pixels (issue 17, item 4): the part's pixels are cut in two
+  /// halves across its longest extent; every finalist (the homogeneous one too) is fitted on each
+  /// half and scored by the same loss on the other, and its loss is the mean of the two held-back
+  /// losses. A graph's dozen free values then buy it nothing
+  /// that does not carry over to pixels it has not seen: a pattern placed on the photo's own
+  /// blotches or edges in one half does not explain the other, a texture the part really wears
+  /// does. The held-back score matches the render's channel means to the held-back photo's
+  /// first (every finalist has a mean colour; the mean's error across the part is the incident
+  /// light's), and the pixel-error, contrast and colour tests read the fits' renders on their own
+  /// halves. Off, or on a part whose halves have fewer than minHeldOutPixels each: the short fits
+  /// run on the whole part and are scored there (the loss the fit minimised).
+  bool heldOut = false;
+  /// Pixels each half needs for held-back scoring; 1000 a half puts the line at issue 17's 2000
+  /// px, the size from which a part's texture is judged.
+  int minHeldOutPixels = 1000;
   /// Each finalist's short fit starts from the parameter draw of its nearest exemplar in the vote
   /// (GraphVote::nearestDraw; the paper initialises the fit there) instead of its defaults. Needs
   /// the bank's options (chooseBySynthesis's `bank`). Off by default, with warmStartFit: on the
@@ -100,14 +115,18 @@ struct SynthesisFinalist {
   double vote = 0;     ///< share of the kNN vote (0: added for its category or as homogeneous)
   int draw = -1;       ///< its nearest draw in the vote (GraphVote::nearestDraw); the short fit
                        ///< starts there with startFromNearestDraw (<= 0: the defaults)
-  double loss = 0;     ///< fit loss after the short fit
+  double loss = 0;     ///< its loss on held-back pixels (SynthesisChoice::heldOut), else the
+                       ///< short fit's loss on the whole part
+  double fitLoss = 0;  ///< the loss its short fits reached on the pixels they were fitted to
   double pixelRmse = 0;  ///< masked RMSE of its render against the photo (linear)
   double contrast = 0;   ///< typical local contrast of its render over the part (median)
   double coarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
   double chroma = 0;          ///< chromaticity spread of its render over the part
   bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
   double seconds = 0;  ///< of the short fit
-  PartFitResult fit;   ///< the short fit (values, UV, roughness; the fit starts there if warmStartFit)
+  /// the short fit (values, UV, roughness; the fit starts there if warmStartFit): with held-back
+  /// scoring the fit on the first half, its render both halves' fits, each on its own half
+  PartFitResult fit;
 };
 
 struct SynthesisChoice {
@@ -116,6 +135,7 @@ struct SynthesisChoice {
   double photoContrast = 0;  ///< typical local contrast of the photo over the part (median)
   double photoCoarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
   double photoChroma = 0;          ///< chromaticity spread of the photo over the part
+  bool heldOut = false;  ///< the finalists were scored on held-back pixels (SynthesisOptions::heldOut)
   double seconds = 0;                        ///< all short fits (wall clock)
 };
 
@@ -153,6 +173,12 @@ struct TextureEvidence {
 };
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
                                 const PartGeometry& geometry, const SynthesisOptions& options);
+
+/// The part's pixels in two halves of equal count (indices into geometry.pixels, ascending),
+/// cut at the median across the principal axis of the pixel positions: each half one region, so
+/// that its texture statistics are a texture's, not a sieve's. False (halves untouched) when a
+/// half would have fewer than minPixels.
+bool splitPartInHalves(const PartGeometry& geometry, int minPixels, std::vector<int> halves[2]);
 
 /// The finalists named above, in vote order (no duplicates; graphs the library lacks skipped).
 std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
