@@ -622,6 +622,17 @@ class PartFitter {
   double stateLoss_ = 0;    // the last evaluated state's loss (for search progress reports)
 };
 
+/// The loss terms of an evaluation into a result.
+void storeLosses(const PartFitter::Eval& e, PartFitResult& res) {
+  res.loss = e.loss;
+  res.lossStat = e.stat;
+  res.lossTexture = e.tex;
+  res.lossPlacement = e.place;
+  res.lossPrior = e.prior;
+  res.lossHighlight = e.highlight;
+  res.lossCeiling = e.ceiling;
+}
+
 }  // namespace
 
 PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, const cv::Mat& photo,
@@ -694,13 +705,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   res.roughness = s.roughness;
   const float mr = f.meanRoughness(s.values);
   res.roughnessScale = mr > 1e-4f ? s.roughness / mr : 1.0f;
-  res.loss = e.loss;
-  res.lossStat = e.stat;
-  res.lossTexture = e.tex;
-  res.lossPlacement = e.place;
-  res.lossPrior = e.prior;
-  res.lossHighlight = e.highlight;
-  res.lossCeiling = e.ceiling;
+  storeLosses(e, res);
   {
     const MaterialMaps m = f.maps(s.values);
     res.albedoAtCeiling = albedoFractionAtCeiling(m.albedo, 0.99f);
@@ -747,13 +752,9 @@ PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
   const PartFitter::Eval e =
       f.evaluate(0, f.maps(state.values), state.uv, state.roughness, o.specularSub, nullptr, &res.render,
                  matchMeans);
-  res.loss = res.initialLoss = e.loss;
-  res.lossStat = e.stat;
-  res.lossTexture = res.initialTextureLoss = e.tex;
-  res.lossPlacement = e.place;
-  res.lossPrior = e.prior;
-  res.lossHighlight = e.highlight;
-  res.lossCeiling = e.ceiling;
+  storeLosses(e, res);
+  res.initialLoss = e.loss;
+  res.initialTextureLoss = e.tex;
   res.seconds = timer.seconds();
   return res;
 }

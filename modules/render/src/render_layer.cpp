@@ -157,17 +157,25 @@ PartGeometry preparePartGeometry(const GBuffer& gb, const Vec3f& cameraCenter, c
   return g;
 }
 
-PartGeometry subsetPartGeometry(const PartGeometry& f, const std::vector<int>& keep) {
+namespace {
+/// A part with `f`'s lighting bins and no pixels yet, at `imageSize` (after checking `f`).
+PartGeometry withoutPixels(const PartGeometry& f, cv::Size imageSize, const char* who) {
   PS_Check(f.data.size() == f.pixels.size() && f.light.size() == f.pixels.size() * static_cast<size_t>(f.bins) * 3,
-           "subsetPartGeometry: inconsistent PartGeometry");
-  PartGeometry s;
-  s.imageSize = f.imageSize;
-  s.part = f.part;
-  s.bins = f.bins;
-  s.thetaBins = f.thetaBins;
-  s.phiBins = f.phiBins;
-  s.binSolidAngle = f.binSolidAngle;
-  s.binDir = f.binDir;
+           who << ": inconsistent PartGeometry");
+  PartGeometry g;
+  g.imageSize = imageSize;
+  g.part = f.part;
+  g.bins = f.bins;
+  g.thetaBins = f.thetaBins;
+  g.phiBins = f.phiBins;
+  g.binSolidAngle = f.binSolidAngle;
+  g.binDir = f.binDir;
+  return g;
+}
+}  // namespace
+
+PartGeometry subsetPartGeometry(const PartGeometry& f, const std::vector<int>& keep) {
+  PartGeometry s = withoutPixels(f, f.imageSize, "subsetPartGeometry");
   const size_t B3 = static_cast<size_t>(f.bins) * 3;
   s.pixels.reserve(keep.size());
   s.data.reserve(keep.size());
@@ -182,16 +190,8 @@ PartGeometry subsetPartGeometry(const PartGeometry& f, const std::vector<int>& k
 }
 
 PartGeometry downsamplePartGeometry(const PartGeometry& f, cv::Mat* maskOut) {
-  PS_Check(f.data.size() == f.pixels.size() && f.light.size() == f.pixels.size() * static_cast<size_t>(f.bins) * 3,
-           "downsamplePartGeometry: inconsistent PartGeometry");
-  PartGeometry c;
-  c.imageSize = cv::Size(f.imageSize.width / 2, f.imageSize.height / 2);
-  c.part = f.part;
-  c.bins = f.bins;
-  c.thetaBins = f.thetaBins;
-  c.phiBins = f.phiBins;
-  c.binSolidAngle = f.binSolidAngle;
-  c.binDir = f.binDir;
+  PartGeometry c = withoutPixels(f, cv::Size(f.imageSize.width / 2, f.imageSize.height / 2),
+                                 "downsamplePartGeometry");
   cv::Mat index(f.imageSize, CV_32SC1, cv::Scalar(-1));
   for (int k = 0; k < f.size(); ++k) index.at<int>(f.pixels[k]) = k;
   cv::Mat mask(c.imageSize, CV_8UC1, cv::Scalar(0));
