@@ -244,8 +244,9 @@ TEST(Select_Synthesis, held_back_pixels_reject_a_texture_fitted_to_edges_on_one_
   // A plain floor with strong edges drawn on one of its halves only (a mat's outline and a
   // bright strip on the half the split puts first). Fitted and scored on the whole part (and
   // without the contrast and colour tests) a texture spreads that edge energy over the floor and
-  // wins; fitted on one half and scored on the other it explains neither half better than the
-  // flat material: the floor stays homogeneous.
+  // wins; fitted on one half and scored on the other no graph explains the other half better
+  // than the flat material by the margin (measured: homogeneous 1.769, wood_planks 1.801,
+  // tile_checker 2.527): the floor stays homogeneous.
   const GraphLibrary lib = GraphLibrary::load();
   Part s = renderFloor(nullptr);
   std::vector<int> h[2];
