@@ -81,10 +81,9 @@ struct SynthesisOptions {
   /// Model selection on held-back pixels (issue 17, item 4): the part's pixels are cut in two
   /// halves across its longest extent; every finalist (the homogeneous one too) is fitted on each
   /// half and scored by the same loss on the other, and its loss is the mean of the two held-back
-  /// losses. A graph's dozen free values then buy it nothing
-  /// that does not carry over to pixels it has not seen: a pattern placed on the photo's own
-  /// blotches or edges in one half does not explain the other, a texture the part really wears
-  /// does. The held-back score matches the render's channel means to the held-back photo's
+  /// losses. A graph's dozen free values then buy it nothing that does not carry over to pixels
+  /// it has not seen: a pattern placed on the photo's own blotches or edges in one half does not
+  /// explain the other, a texture the part really wears does. The held-back score matches the render's channel means to the held-back photo's
   /// first (every finalist has a mean colour; the mean's error across the part is the incident
   /// light's), and the pixel-error, contrast and colour tests read the fits' renders on their own
   /// halves. Off, or on a part whose halves have fewer than minHeldOutPixels each: the short fits
