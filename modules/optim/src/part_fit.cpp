@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "photoscene/core/log.hpp"
 
@@ -211,9 +212,12 @@ cv::Mat maskOf(const PartGeometry& geo) {
 
 class PartFitter {
  public:
-  PartFitter(const MaterialGraph& g, const PartGeometry& geo, const cv::Mat& photo, const TextureLossTarget& target,
+  // `g` null: a fitter that only evaluates given maps (scoreMaps); the prior's category is then
+  // o.roughnessCategory's.
+  PartFitter(const MaterialGraph* g, const PartGeometry& geo, const cv::Mat& photo, const TextureLossTarget& target,
              const PartFitOptions& o)
-      : graph_(g.clone()), o_(o) {
+      : o_(o) {
+    if (g) graph_.emplace(g->clone());
     levels_.emplace_back();
     levels_[0].geo = &geo;
     levels_[0].photo = photo;
@@ -249,12 +253,13 @@ class PartFitter {
     }
     if (o.highlightWeight > 0)
       for (Level& lv : levels_) lv.highlight = highlightRegion(*lv.geo, o.highlight);
-    prior_ =
-        roughnessPriorFor(o.roughnessCategory.empty() ? graph_.category() : o.roughnessCategory);
+    prior_ = roughnessPriorFor(o.roughnessCategory.empty() && graph_ ? graph_->category()
+                                                                     : o.roughnessCategory);
     coarseLevel_ = std::min(o.coarseLevels, static_cast<int>(levels_.size()) - 1);
     searchLevel_ = std::min(o.searchLevels, static_cast<int>(levels_.size()) - 1);
-    const auto& params = graph_.parameters();
-    const int n = graph_.valueCount();
+    if (!graph_) return;
+    const auto& params = graph_->parameters();
+    const int n = graph_->valueCount();
     lo_.assign(n, 0.0f);
     hi_.assign(n, 1.0f);
     for (const GraphParameter& p : params)
@@ -262,7 +267,7 @@ class PartFitter {
         lo_[p.offset + k] = p.min;
         hi_[p.offset + k] = p.max;
       }
-    mask_ = graph_.differentiableMask();
+    mask_ = graph_->differentiableMask();
   }
 
   struct Eval {
@@ -337,13 +342,13 @@ class PartFitter {
   }
 
   MaterialMaps maps(const std::vector<float>& values) {
-    graph_.setValues(values);
-    return graph_.evaluate(o_.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+    graph_->setValues(values);
+    return graph_->evaluate(o_.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
   }
 
   float meanRoughness(const std::vector<float>& values) {
-    graph_.setValues(values);
-    const MaterialMaps m = graph_.evaluate(o_.mapSize, MapSet::of({MapKind::Roughness}));
+    graph_->setValues(values);
+    const MaterialMaps m = graph_->evaluate(o_.mapSize, MapSet::of({MapKind::Roughness}));
     return m.roughness.empty() ? 0.5f : static_cast<float>(cv::mean(m.roughness)[0]);
   }
 
@@ -451,7 +456,7 @@ class PartFitter {
   // best state seen and its loss.
   double run(FitState& s, int iterations, bool searchFirst, bool searchAgain, int level, PartFitResult& res,
              bool record, float learningRateScale = 1.0f) {
-    const int n = graph_.valueCount();
+    const int n = graph_->valueCount();
     const int N = n + 5;
     std::vector<float> x(N), lower(N), upper(N), scales(N, 1.0f);
     std::vector<uint8_t> mask(N, 1);
@@ -479,7 +484,7 @@ class PartFitter {
     auto unpack = [&](FitState& st) {
       std::vector<float> v(n);
       for (int i = 0; i < n; ++i) v[i] = mask[i] ? lo_[i] + x[i] * (hi_[i] - lo_[i]) : st.values[i];
-      st.values = graph_.projectValues(v);
+      st.values = graph_->projectValues(v);
       st.roughness = x[n];
       st.uv.rotation = x[n + 1], st.uv.logScale = x[n + 2], st.uv.offset = Vec2f(x[n + 3], x[n + 4]);
     };
@@ -524,7 +529,7 @@ class PartFitter {
       MaterialMaps dm;
       dm.albedo = g.albedo;
       dm.normal = g.normal;
-      const std::vector<float> dv = graph_.backward(dm);
+      const std::vector<float> dv = graph_->backward(dm);
       std::vector<float> grad(N, 0.0f);
       for (int i = 0; i < n; ++i) grad[i] = dv[i] * (hi_[i] - lo_[i]);
       grad[n] = g.roughnessValue;
@@ -588,10 +593,10 @@ class PartFitter {
 
   // The spectral prior: the photo's spectrum against the albedo of `values` (see uv_spectrum.hpp).
   UvSpectrumEstimate estimateSpectrum(const std::vector<float>& values) {
-    graph_.setValues(values);
+    graph_->setValues(values);
     // at 256 at least: at 128 the grain's 36 rings a period blur and wood's estimate was 22 % off
     const MaterialMaps m =
-        graph_.evaluate(std::max(o_.mapSize, 256), MapSet::of({MapKind::Albedo}));
+        graph_->evaluate(std::max(o_.mapSize, 256), MapSet::of({MapKind::Albedo}));
     cv::Mat lum(m.albedo.size(), CV_32F);
     for (int y = 0; y < lum.rows; ++y)
       for (int x = 0; x < lum.cols; ++x) {
@@ -609,7 +614,7 @@ class PartFitter {
     return spectrum_;
   }
 
-  MaterialGraph graph_;
+  std::optional<MaterialGraph> graph_;  // absent: maps are given (scoreMaps)
   PartFitOptions o_;
   std::vector<Level> levels_;
   int coarseLevel_ = 0, searchLevel_ = 0;
@@ -643,7 +648,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   PS_Check(target.imageSize() == geometry.imageSize, "fitPart: texture-loss target and geometry sizes differ");
   PS_Check(geometry.size() > 0, "fitPart: the part has no pixels");
   Timer timer;
-  PartFitter f(graph, geometry, photo, target, options);
+  PartFitter f(&graph, geometry, photo, target, options);
   PartFitResult res;
   FitState start;
   start.values = graph.values();
@@ -724,39 +729,69 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   return res;
 }
 
-PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
-                        const PartGeometry& geometry, const cv::Mat& photo,
-                        const TextureLossTarget& target, const PartFitOptions& options,
-                        bool matchMeans) {
+namespace {
+
+void checkScoreInputs(const char* who, const PartGeometry& geometry, const cv::Mat& photo,
+                      const TextureLossTarget& target, const PartFitOptions& options) {
   std::string err;
-  PS_Check(options.IsValid(&err), "scorePart: invalid options: " + err);
+  PS_Check(options.IsValid(&err), who << ": invalid options: " << err);
   PS_Check(photo.type() == CV_32FC3 && photo.size() == geometry.imageSize,
-           "scorePart: photo must be CV_32FC3 of the geometry's size");
+           who << ": photo must be CV_32FC3 of the geometry's size");
   PS_Check(target.imageSize() == geometry.imageSize,
-           "scorePart: texture-loss target and geometry sizes differ");
-  PS_Check(geometry.size() > 0, "scorePart: the part has no pixels");
-  PS_Check(static_cast<int>(state.values.size()) == graph.valueCount(),
-           "scorePart: the state has " << state.values.size() << " values, graph " << graph.name()
-                                       << " " << graph.valueCount());
+           who << ": texture-loss target and geometry sizes differ");
+  PS_Check(geometry.size() > 0, who << ": the part has no pixels");
+}
+
+// One evaluation at full resolution of `maps` (graph null) or of the graph's maps at `values`.
+PartFitResult scoreOnce(const MaterialGraph* graph, const MaterialMaps* maps,
+                        const std::vector<float>& values, const UvParams& uv, float roughness,
+                        const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, PartFitOptions o, bool matchMeans) {
   const Timer timer;
-  PartFitOptions o = options;
   o.coarseLevels = o.searchLevels = 0;  // one level: nothing is fitted
   PartFitter f(graph, geometry, photo, target, o);
   PartFitResult res;
-  res.values = state.values;
-  res.uv = state.uv;
-  res.roughness = state.roughness;
-  res.roughnessScale = state.roughnessScale;
+  res.values = values;
+  res.uv = uv;
+  res.roughness = roughness;
   if (o.roughnessPriorWeight > 0) res.roughnessPrior = f.prior();
   res.highlightPixels = f.highlightPixels();
-  const PartFitter::Eval e =
-      f.evaluate(0, f.maps(state.values), state.uv, state.roughness, o.specularSub, nullptr, &res.render,
-                 matchMeans);
+  const PartFitter::Eval e = f.evaluate(0, maps ? *maps : f.maps(values), uv, roughness,
+                                        o.specularSub, nullptr, &res.render, matchMeans);
   storeLosses(e, res);
   res.initialLoss = e.loss;
   res.initialTextureLoss = e.tex;
   res.seconds = timer.seconds();
   return res;
+}
+
+}  // namespace
+
+PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
+                        const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, const PartFitOptions& options,
+                        bool matchMeans) {
+  checkScoreInputs("scorePart", geometry, photo, target, options);
+  PS_Check(static_cast<int>(state.values.size()) == graph.valueCount(),
+           "scorePart: the state has " << state.values.size() << " values, graph " << graph.name()
+                                       << " " << graph.valueCount());
+  PartFitResult res = scoreOnce(&graph, nullptr, state.values, state.uv, state.roughness,
+                                geometry, photo, target, options, matchMeans);
+  res.roughnessScale = state.roughnessScale;
+  return res;
+}
+
+PartFitResult scoreMaps(const MaterialMaps& maps, const std::string& category, const UvParams& uv,
+                        float roughness, const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, const PartFitOptions& options,
+                        bool matchMeans) {
+  checkScoreInputs("scoreMaps", geometry, photo, target, options);
+  PS_Check(!maps.albedo.empty() && maps.albedo.type() == CV_32FC3 &&
+               maps.albedo.rows == maps.albedo.cols,
+           "scoreMaps: the albedo map must be a square CV_32FC3 image");
+  PartFitOptions o = options;
+  o.roughnessCategory = category;
+  return scoreOnce(nullptr, &maps, {}, uv, roughness, geometry, photo, target, o, matchMeans);
 }
 
 }  // namespace ps

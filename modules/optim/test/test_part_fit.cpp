@@ -376,5 +376,47 @@ TEST(Optim_PartFit, recovers_uv_scale_within_15_percent) {
   EXPECT_NEAR(r.scaleRatio, 1.0, 0.15);
 }
 
+// scoreMaps evaluates maps that no graph made (a photographed material's) by the fit's loss: given
+// a graph's own maps, it must give that graph's score (scorePart) term by term, and the render
+// must be the same image.
+TEST(Optim_PartFit, scoring_a_graphs_maps_gives_the_graphs_score) {
+  const GraphLibrary lib = GraphLibrary::load();
+  MaterialGraph truth = lib.create("wood_planks");
+  truth.setValues(truthValues(truth, 5, 0.3f));
+  UvParams uv;
+  uv.rotation = radians(20.0f);
+  uv.logScale = std::log(0.5f);
+  Synthetic s = makeSynthetic(truth, uv, 80, 60, 16, 8, 2);
+  const int part = s.room.floor;
+  const PartGeometry geo = preparePartGeometry(
+      s.view.gbuffer, s.room.camera.position().cast<float>(), s.view.grid, s.view.gbuffer.mask[part], part);
+  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[part]);
+  PartFitOptions o = PartFitOptions::preset("balanced");  // placement, prior, highlight, ceiling on
+  o.mapSize = 128;
+  PartFitResult state;
+  state.values = truth.values();
+  state.uv = uv;
+  state.uv.offset = Vec2f(0.3f, 0.6f);
+  state.roughness = 0.45f;
+  const MaterialMaps maps =
+      truth.evaluate(o.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+  for (bool matchMeans : {false, true}) {
+    const PartFitResult a = scorePart(truth, state, geo, s.photo, target, o, matchMeans);
+    const PartFitResult b = scoreMaps(maps, truth.category(), state.uv, state.roughness, geo,
+                                      s.photo, target, o, matchMeans);
+    EXPECT_GT(a.loss, 0.0);
+    EXPECT_NEAR(b.loss, a.loss, 1e-9 * a.loss);
+    EXPECT_NEAR(b.lossStat, a.lossStat, 1e-9 * a.lossStat + 1e-12);
+    EXPECT_NEAR(b.lossTexture, a.lossTexture, 1e-9 * a.lossTexture + 1e-12);
+    EXPECT_NEAR(b.lossPlacement, a.lossPlacement, 1e-9 + 1e-9 * a.lossPlacement);
+    EXPECT_NEAR(b.lossPrior, a.lossPrior, 1e-9 + 1e-9 * a.lossPrior);
+    EXPECT_EQ(cv::norm(a.render, b.render, cv::NORM_INF), 0.0);
+  }
+  // a map that is not square is refused with a message, not read past its end
+  MaterialMaps bad = maps;
+  bad.albedo = cv::Mat(16, 32, CV_32FC3, cv::Scalar::all(0.5));
+  EXPECT_THROW(scoreMaps(bad, "", state.uv, 0.5f, geo, s.photo, target, o), Exception);
+}
+
 }  // namespace
 }  // namespace ps

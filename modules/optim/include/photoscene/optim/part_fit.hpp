@@ -217,4 +217,12 @@ PartFitResult scorePart(const MaterialGraph& graph, const PartFitResult& state,
                         const TextureLossTarget& target, const PartFitOptions& options,
                         bool matchMeans = false);
 
+/// The same for maps that no graph made (a photographed material's, resampled to a power of two:
+/// what the fit's loss says of the true texture): the loss terms and the render of `maps` under
+/// `uv` with the held roughness `roughness`, the roughness prior of `category` ("" = none).
+PartFitResult scoreMaps(const MaterialMaps& maps, const std::string& category, const UvParams& uv,
+                        float roughness, const PartGeometry& geometry, const cv::Mat& photo,
+                        const TextureLossTarget& target, const PartFitOptions& options,
+                        bool matchMeans = false);
+
 }  // namespace ps
