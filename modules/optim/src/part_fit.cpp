@@ -272,6 +272,7 @@ class PartFitter {
 
   struct Eval {
     double loss = 0, stat = 0, tex = 0, place = 0, prior = 0, highlight = 0, ceiling = 0;
+    double data = 0;  ///< the weighted terms that compare with the photo (no prior, no ceiling)
   };
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
@@ -329,9 +330,9 @@ class PartFitter {
     if (o_.albedoCeilingWeight > 0)
       e.ceiling = albedoCeilingLoss(maps.albedo, o_.albedoCeilingKnee, grads ? &gCeil : nullptr,
                                     o_.albedoCeilingWeight);
-    e.loss = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place +
-             priorWeight * e.prior + o_.highlightWeight * e.highlight +
-             o_.albedoCeilingWeight * e.ceiling;
+    e.data = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place +
+             o_.highlightWeight * e.highlight;
+    e.loss = e.data + priorWeight * e.prior + o_.albedoCeilingWeight * e.ceiling;
     if (grads) {
       renderLayerBackward(p, gImage, *grads);
       grads->roughnessValue += static_cast<float>(priorWeight * gPrior);
@@ -636,6 +637,7 @@ void storeLosses(const PartFitter::Eval& e, PartFitResult& res) {
   res.lossPrior = e.prior;
   res.lossHighlight = e.highlight;
   res.lossCeiling = e.ceiling;
+  res.lossData = e.data;
 }
 
 }  // namespace

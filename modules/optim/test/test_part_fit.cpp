@@ -411,7 +411,19 @@ TEST(Optim_PartFit, scoring_a_graphs_maps_gives_the_graphs_score) {
     EXPECT_NEAR(b.lossPlacement, a.lossPlacement, 1e-9 + 1e-9 * a.lossPlacement);
     EXPECT_NEAR(b.lossPrior, a.lossPrior, 1e-9 + 1e-9 * a.lossPrior);
     EXPECT_EQ(cv::norm(a.render, b.render, cv::NORM_INF), 0.0);
+    // the data terms: the loss less the regularisers, the weighted sum of the photo terms
+    EXPECT_NEAR(a.lossData,
+                o.statWeight * a.lossStat + o.textureWeight * a.lossTexture +
+                    o.placementWeight * a.lossPlacement + o.highlightWeight * a.lossHighlight,
+                1e-9 * a.loss);
+    EXPECT_GT(a.lossPrior, 0.0);
+    EXPECT_LT(a.lossData, a.loss);
   }
+  // without the regularisers the data terms are the loss
+  PartFitOptions bare = o;
+  bare.roughnessPriorWeight = bare.albedoCeilingWeight = 0;
+  const PartFitResult c = scorePart(truth, state, geo, s.photo, target, bare);
+  EXPECT_NEAR(c.lossData, c.loss, 1e-12);
   // a map that is not square is refused with a message, not read past its end
   MaterialMaps bad = maps;
   bad.albedo = cv::Mat(16, 32, CV_32FC3, cv::Scalar::all(0.5));

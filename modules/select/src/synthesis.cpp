@@ -247,10 +247,13 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   out.heldOut = options.heldOut && splitPartInHalves(geometry, options.minHeldOutPixels, halfIndex);
   std::vector<PartGeometry> halves;
   std::vector<TextureLossTarget> halfTargets;
+  float halfRoughness[2] = {0, 0};
   if (out.heldOut)
     for (int h = 0; h < 2; ++h) {
       halves.push_back(subsetPartGeometry(geometry, halfIndex[h]));
       halfTargets.emplace_back(photo, maskOf(halves[h], photo.size()), target.options());
+      halfRoughness[h] =
+          fitHomogeneous(halves[h], photo, roughnessGrid(5), homogeneousRoughness(fit)).roughness;
     }
   parallelFor(0, static_cast<int64_t>(names.size()), [&](int64_t i) {
     SynthesisFinalist& f = out.finalists[i];
@@ -271,19 +274,27 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
       f.loss = f.fitLoss = f.fit.loss;
     } else {
       // fitted on each half, scored on the other with the render's channel means matched to the
-      // held-back photo's: what is tested is the freedom a graph has beyond the mean colour that
-      // every finalist has (its pattern); the mean's error across the part is the incident
-      // light's, common to all. The tests below read the fits' renders on their own halves (what
-      // the fit stage's full fit will show).
+      // held-back photo's and the held-back half's own closed-form roughness: what is tested is
+      // the freedom a graph has beyond the mean colour and gloss that every finalist has (its
+      // pattern); the mean's error across the part is the incident light's, common to all, and a
+      // roughness fitted to one bright streak is a gloss the other half need not share. Scored by
+      // the data terms (the regularisers score values, not pixels), the halves' losses combined
+      // by their geometric mean: each half counts by its ratio, so a half with strong edges
+      // (losses 100x the plain half's) does not outvote the other. The tests below read the fits'
+      // renders on their own halves (what the fit stage's full fit will show).
       const PartFitResult fits[2] = {shortFit(halves[0], halfTargets[0]),
                                      shortFit(halves[1], halfTargets[1])};
-      f.loss = f.fitLoss = 0;
+      double logLoss = 0;
+      f.fitLoss = 0;
       for (int h = 0; h < 2; ++h) {
+        PartFitResult state = fits[1 - h];
+        state.roughness = halfRoughness[h];
         const PartFitResult held =
-            scorePart(graph, fits[1 - h], halves[h], photo, halfTargets[h], fit, true);
-        f.loss += 0.5 * held.loss;
+            scorePart(graph, state, halves[h], photo, halfTargets[h], fit, true);
+        logLoss += 0.5 * std::log(std::max(held.lossData, 1e-12));
         f.fitLoss += 0.5 * fits[h].loss;
       }
+      f.loss = std::exp(logLoss);
       f.fit = fits[0];
       f.fit.render = fits[0].render + fits[1].render;  // each zero off its half
     }

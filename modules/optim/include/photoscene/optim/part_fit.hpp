@@ -168,6 +168,10 @@ struct PartFitResult {
   double loss = 0, lossStat = 0, lossTexture = 0;  ///< at the returned values
   double lossPlacement = 0;                         ///< L_place at the returned values (0 if off)
   double lossPrior = 0, lossHighlight = 0, lossCeiling = 0;  ///< L_prior, L_hl, L_ceil (0 if off)
+  /// the weighted terms that compare the render with the photo (stat, texture, placement,
+  /// highlight): `loss` less the regularisers on the parameters (prior, ceiling). What held-back
+  /// pixels test: a regulariser scores the fitted values, not how they explain other pixels.
+  double lossData = 0;
   RoughnessPrior roughnessPrior;  ///< the prior used (when roughnessPriorWeight > 0)
   int highlightPixels = 0;        ///< pixels of the highlight region at full resolution (0: none)
   /// fraction of the fitted albedo map's texels >= 0.99 per channel; `albedoPinned` when a

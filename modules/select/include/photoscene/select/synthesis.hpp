@@ -80,13 +80,15 @@ struct SynthesisOptions {
   double maxChromaRatio = 1.5;
   /// Model selection on held-back pixels (issue 17, item 4): the part's pixels are cut in two
   /// halves across its longest extent; every finalist (the homogeneous one too) is fitted on each
-  /// half and scored by the same loss on the other, and its loss is the mean of the two held-back
-  /// losses. A graph's dozen free values then buy it nothing that does not carry over to pixels
-  /// it has not seen: a pattern placed on the photo's own blotches or edges in one half does not
-  /// explain the other, a texture the part really wears does. The held-back score matches the render's channel means to the held-back photo's
-  /// first (every finalist has a mean colour; the mean's error across the part is the incident
-  /// light's), and the pixel-error, contrast and colour tests read the fits' renders on their own
-  /// halves. Off, or on a part whose halves have fewer than minHeldOutPixels each: the short fits
+  /// half and scored on the other by the loss's data terms (PartFitResult::lossData), and its
+  /// loss is the geometric mean of the two held-back losses (each half counts by its ratio: a half
+  /// with strong edges does not outvote a plain one). A graph's dozen free values then buy it
+  /// nothing that does not carry over to pixels it has not seen: a pattern placed on the photo's
+  /// own blotches or edges in one half does not explain the other, a texture the part really
+  /// wears does. The held-back score matches the render's channel means to the held-back photo's
+  /// first and renders at the held-back half's own closed-form roughness (every finalist has a
+  /// mean colour and a gloss; their error across the part is the incident light's), and the
+  /// pixel-error, contrast and colour tests read the fits' renders on their own halves. Off, or on a part whose halves have fewer than minHeldOutPixels each: the short fits
   /// run on the whole part and are scored there (the loss the fit minimised).
   bool heldOut = false;
   /// Pixels each half needs for held-back scoring; 1000 a half puts the line at issue 17's 2000
