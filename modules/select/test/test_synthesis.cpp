@@ -110,9 +110,9 @@ SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
-TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
-  const GraphLibrary lib = GraphLibrary::load();
-  // the truth: wood planks with perturbed continuous parameters (the finalists start from defaults)
+// The floor path-traced in wood planks with perturbed continuous parameters (the finalists
+// start from the graph's defaults).
+Part plankFloor(const GraphLibrary& lib) {
   MaterialGraph truth = lib.create("wood_planks");
   std::vector<float> v = truth.randomValues(11, 0.3f);
   const std::vector<float> d = truth.defaultValues();
@@ -122,7 +122,12 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   truth.setValues(v);
   const MaterialMaps maps =
       truth.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
-  const Part s = renderFloor(&maps);
+  return renderFloor(&maps);
+}
+
+TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
+  const GraphLibrary lib = GraphLibrary::load();
+  const Part s = plankFloor(lib);
   ASSERT_GT(s.geo.size(), 1000);
   // the vote ranks a fabric and a plain paint above the truth
   const std::vector<GraphVote> votes = {vote("fabric_twill", "fabric", 3),
@@ -300,16 +305,7 @@ TEST(Select_Synthesis, held_back_pixels_keep_a_texture_the_whole_part_shows) {
   // the other side of model selection on held-back pixels: planks over the whole floor, fitted on
   // either half, explain the other half better than the flat material by the margin
   const GraphLibrary lib = GraphLibrary::load();
-  MaterialGraph truth = lib.create("wood_planks");
-  std::vector<float> v = truth.randomValues(11, 0.3f);
-  const std::vector<float> d = truth.defaultValues();
-  const std::vector<uint8_t> continuous = truth.differentiableMask();
-  for (size_t i = 0; i < v.size(); ++i)
-    if (!continuous[i]) v[i] = d[i];
-  truth.setValues(v);
-  const MaterialMaps maps =
-      truth.evaluate(256, MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
-  const Part s = renderFloor(&maps);
+  const Part s = plankFloor(lib);
   const std::vector<GraphVote> votes = {vote("wood_planks", "wood", 3),
                                         vote("tile_checker", "tile", 2)};
   PartFitOptions fit = PartFitOptions::preset("fast");
