@@ -240,6 +240,7 @@ struct Options {
   std::vector<std::string> lightings = {"warm", "window"};
   std::optional<SynthesisOptions> selection;  ///< the preset's when unset
   std::optional<bool> fitAllViews;            ///< PipelineOptions' default when unset
+  std::optional<int> incidentSamples, incidentDirectSamples;  ///< the preset's when unset
 };
 
 /// Light through a window converges slower than a ceiling rectangle: twice the samples, so both
@@ -610,6 +611,8 @@ PipelineOptions pipelineOptions(const Options& o, const std::string& lighting,
   p.writeGltf = false;
   p.selection = o.selection;
   if (o.fitAllViews) p.fitAllViews = *o.fitAllViews;
+  p.incidentSamples = o.incidentSamples;
+  p.incidentDirectSamples = o.incidentDirectSamples;
   return p;
 }
 
@@ -1074,6 +1077,11 @@ int main(int argc, char** argv) {
                  "best: each part fitted in the view that sees it best; all: a homogeneous part over "
                  "every view that sees it well (default: the pipeline's)")
       ->check(CLI::IsMember({"best", "all"}));
+  int incidentSamples = 0, incidentDirect = -1;
+  app.add_option("--incident-samples", incidentSamples,
+                 "incident-light grids: path samples per bin (0: the preset's)");
+  app.add_option("--incident-direct", incidentDirect,
+                 "incident-light grids: light samples per lamp at each point (-1: the preset's)");
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
   app.add_option("--spp", o.spp,
@@ -1097,6 +1105,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   o.lightings = splitList(lightingsArg);
   if (!fitViews.empty()) o.fitAllViews = fitViews == "all";
+  if (incidentSamples > 0) o.incidentSamples = incidentSamples;
+  if (incidentDirect >= 0) o.incidentDirectSamples = incidentDirect;
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
                            "--select-contrast-ratio", "--select-chroma-ratio",

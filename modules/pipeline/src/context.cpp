@@ -59,6 +59,15 @@ std::unique_ptr<Context> Context::load(const PipelineOptions& options) {
   if (options.textureSize < 4 || options.textureSize > 16384)
     throw InputError("--texture-size", "",
                      fmt::format("expected 4..16384, got {}", options.textureSize));
+  if (options.incidentSamples && (*options.incidentSamples < 1 || *options.incidentSamples > 4096))
+    throw InputError("PipelineOptions", "incidentSamples",
+                     fmt::format("expected 1..4096 path samples per bin, got {}",
+                                 *options.incidentSamples));
+  if (options.incidentDirectSamples &&
+      (*options.incidentDirectSamples < 0 || *options.incidentDirectSamples > 4096))
+    throw InputError("PipelineOptions", "incidentDirectSamples",
+                     fmt::format("expected 0..4096 light samples per light, got {}",
+                                 *options.incidentDirectSamples));
   in.scene = loadScene(options.scene);
   in.preset = options.preset.value_or(in.scene.desc.options.preset);
   in.library = std::make_unique<GraphLibrary>(GraphLibrary::load());

@@ -134,6 +134,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
     h.add(o.fitAllViews);
   else if (name == "denoise")
     h.add(o.denoise);
+  else if (name == "incident")
+    h.add(o.incidentSamples.value_or(-1)).add(o.incidentDirectSamples.value_or(-1));
   else if (name == "write_gltf")
     h.add(o.writeGltf);
   else if (name == "library")

@@ -14,7 +14,8 @@ namespace ps::pipeline {
 const std::vector<std::string>& optionNames() {
   static const std::vector<std::string> names = {
       "preset",   "texture_size", "work_width", "mean_albedo",  "render_spp", "eval_spp", "max_fit_iterations",
-      "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views", "denoise"};
+      "baseline", "write_gltf",   "library",    "ground_truth", "selection",  "fit_views", "denoise",
+      "incident"};
   return names;
 }
 
@@ -184,6 +185,19 @@ int Reads::evalSpp() const {
   needOption("preset");
   needOption("eval_spp");
   return ctx_.in_.options.evalSpp.value_or(ctx_.in_.budget.evalSpp);
+}
+
+int Reads::incidentSamples() const {
+  needOption("preset");
+  needOption("incident");
+  return ctx_.in_.options.incidentSamples.value_or(ctx_.in_.budget.incidentSamples);
+}
+
+int Reads::incidentDirectSamples(int round) const {
+  needOption("preset");
+  needOption("incident");
+  return ctx_.in_.options.incidentDirectSamples.value_or(
+      round == 0 ? ctx_.in_.budget.incidentDirectSamples : ctx_.in_.budget.incident1DirectSamples);
 }
 
 const PartFitOptions& Reads::fitOptions() const {

@@ -62,6 +62,7 @@ struct StageDecl {
 ///   library           the graph library's content (and the exemplar bank's format)
 ///   ground_truth      the case folder's ground-truth renders, cameras and lights (eval)
 ///   fit_views         PipelineOptions::fitAllViews
+///   incident          PipelineOptions::incidentSamples, incidentDirectSamples (when set)
 const std::vector<std::string>& optionNames();
 
 /// The inputs of one stage unit, as declared: each accessor throws ps::Exception naming the
@@ -101,6 +102,8 @@ class Reads {
   const PresetBudget& budget() const;        ///< preset (its renderSpp: use renderSpp())
   int renderSpp() const;                     ///< preset, render_spp
   int evalSpp() const;                       ///< preset, eval_spp
+  int incidentSamples() const;               ///< preset, incident: path samples per grid bin
+  int incidentDirectSamples(int round) const;  ///< preset, incident: lamp samples per grid point
   const PartFitOptions& fitOptions() const;  ///< preset
   SynthesisOptions synthesisOptions() const;  ///< preset, selection
   std::optional<int> maxFitIterations() const;

@@ -19,7 +19,7 @@ class IncidentStage : public Stage {
     decl.name = round == 0 ? "incident0" : "incident1";
     decl.unit = Unit::View;
     decl.scene = {"geometry", "up", "lights", "views[].camera", "parts.{}.fixed", "options.seed"};
-    decl.options = {"preset", "work_width", "baseline", "fit_views"};
+    decl.options = {"preset", "work_width", "baseline", "fit_views", "incident"};
     decl.after = {"parts", "geometry", "observe", "pin", "lights0"};
     if (round == 1) {
       decl.options.push_back("library");
@@ -44,9 +44,8 @@ class IncidentStage : public Stage {
     }
     IncidentLightOptions o;
     o.stride = in.budget().incidentStride;
-    o.samplesPerBin = in.budget().incidentSamples;
-    o.directSamples =
-        round_ == 1 ? in.budget().incident1DirectSamples : in.budget().incidentDirectSamples;
+    o.samplesPerBin = in.incidentSamples();
+    o.directSamples = in.incidentDirectSamples(round_);
     o.render.seed = in.seed() + 101 * v;
     o.albedoSensitivity = round_ == 1;
     // only the parts fitted in this view read its grid (fit, refine, baselines)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <tuple>
 
 #include "photoscene/core.hpp"
 #include "photoscene/io.hpp"
@@ -78,6 +79,24 @@ TEST(Pipeline, bad_input_writes_nothing) {
     EXPECT_NE(std::string(e.what()).find("parts.floor.graph"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(Pipeline, bad_incident_samples_are_refused_naming_the_option) {
+  io::TempDir dir;
+  for (const auto& [samples, direct, named] :
+       {std::tuple<int, int, const char*>{0, 0, "incidentSamples"},
+        std::tuple<int, int, const char*>{8, -1, "incidentDirectSamples"}}) {
+    PipelineOptions o = sampleOptions(kSample / "scene.json", dir / "out");
+    o.incidentSamples = samples;
+    o.incidentDirectSamples = direct;
+    try {
+      runPipeline(o);
+      ADD_FAILURE() << named << " out of range was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
 }
 
 // ---------------------------------------------------------------- end to end

@@ -270,6 +270,11 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
       {"write_gltf", [](RunInputs& i, bool on) { i.options.writeGltf = !on; }},
       {"fit_views", [](RunInputs& i, bool on) { i.options.fitAllViews = on; }},
       {"denoise", [](RunInputs& i, bool on) { i.options.denoise = !on; }},
+      {"incident",
+       [](RunInputs& i, bool on) {
+         i.options.incidentSamples = on ? std::optional<int>(32) : std::nullopt;
+         i.options.incidentDirectSamples = on ? std::optional<int>(16) : std::nullopt;
+       }},
       {"library",
        [](RunInputs& i, bool on) {
          i.bankName = on ? i.bankName + "-edited" : i.bankName.substr(0, i.bankName.size() - 7);

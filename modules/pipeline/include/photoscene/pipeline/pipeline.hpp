@@ -61,6 +61,11 @@ struct PipelineOptions {
   std::optional<int> renderSpp;              ///< final renders; default by preset
   std::optional<int> evalSpp;                ///< metrics' novel / relit renders; default by preset
   std::optional<int> maxFitIterations;       ///< caps the per-part iterations (tests)
+  /// The incident-light grids (both rounds): path samples per bin (>= 1) and light samples per
+  /// light at each grid point (>= 0; 0 finds the lamps by path samples alone); default by preset
+  /// (fast 4 / 0, balanced 8 / 0, paper 16 / 0 in round 0; round 1 samples the lamps with 32).
+  std::optional<int> incidentSamples;
+  std::optional<int> incidentDirectSamples;
   /// Selection by synthesis (select/synthesis.hpp): how many of the kNN vote's graphs are fitted
   /// briefly on the part, and how; default by preset.
   std::optional<SynthesisOptions> selection;
