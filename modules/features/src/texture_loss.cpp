@@ -47,7 +47,81 @@ struct TextureLossTarget::Impl {
   std::vector<double> psTarget, psEntryWeight;
   std::vector<int> psEntryGroup;
   std::vector<float> psValues;
+  cv::Vec3d noise{0, 0, 0};  // the photo's pixel noise taken off targetValues
 };
+
+namespace {
+
+/// sqrt(max(0, v^2 - e2 - n2) + e2): a statistic v = sqrt(var + e2) with the variance n2 taken off.
+double withoutVariance(double v, double n2, double e2) {
+  return std::sqrt(std::max(0.0, v * v - e2 - n2) + e2);
+}
+
+/// Takes the photo's pixel noise off the target statistics (TextureLossOptions::photoNoiseFloor).
+void subtractPhotoNoise(const cv::Mat& photo, const cv::Mat& mask, TextureLossTarget::Impl& m) {
+  const TextureDescriptorOptions& o = m.options.descriptor;
+  m.noise = estimatePixelNoise(photo, mask);
+  if (m.noise == cv::Vec3d(0, 0, 0)) return;
+  // the noise's own statistics: white noise of that level through the same mask and filters
+  // (a fixed seed: the same target every time)
+  cv::Mat noise(photo.size(), CV_32FC3);
+  cv::RNG rng(0x9e3779b97f4a7c15ULL);
+  rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(1));
+  noise = noise.mul(cv::Scalar(m.noise[0], m.noise[1], m.noise[2]));
+  ForwardState ns;
+  forwardDescriptor(noise, m.pyramid, m.bank, o, ns, false);
+  const double e2 = static_cast<double>(o.epsilon) * o.epsilon;
+  std::vector<double>& t = m.targetValues;
+  for (int ch = 0; ch < 3; ++ch) t[3 + ch] = withoutVariance(t[3 + ch], m.noise[ch] * m.noise[ch], e2);
+  for (int s = 0; s < o.numScales; ++s)
+    for (int k = 0; k < o.numOrientations; ++k) {
+      const int i = bandIndex(o, s, k);
+      const auto var = [&](const std::vector<double>& v, int j) { return v[i + j] * v[i + j] - e2; };
+      t[i + kBandStdRe] = withoutVariance(t[i + kBandStdRe], var(ns.values, kBandStdRe), e2);
+      // the magnitudes' second moment, mean^2 + var
+      const double photo2 = t[i + kBandMeanMag] * t[i + kBandMeanMag] + var(t, kBandStdMag);
+      const double noise2 = ns.values[i + kBandMeanMag] * ns.values[i + kBandMeanMag] +
+                            var(ns.values, kBandStdMag);
+      const double f = photo2 > 0 ? std::sqrt(std::max(0.0, photo2 - noise2) / photo2) : 1.0;
+      t[i + kBandMeanMag] *= f;
+      t[i + kBandStdMag] = std::sqrt(std::max(0.0, var(t, kBandStdMag)) * f * f + e2);
+    }
+}
+
+}  // namespace
+
+cv::Vec3d estimatePixelNoise(const cv::Mat& photo, const cv::Mat& mask, int minPixels) {
+  checkImage(photo, CV_32FC3, photo.size(), "estimatePixelNoise photo");
+  checkImage(mask, CV_8UC1, photo.size(), "estimatePixelNoise mask");
+  std::vector<float> r[3];
+  for (int y = 1; y + 1 < photo.rows; ++y) {
+    const uint8_t* m0 = mask.ptr<uint8_t>(y - 1);
+    const uint8_t* m1 = mask.ptr<uint8_t>(y);
+    const uint8_t* m2 = mask.ptr<uint8_t>(y + 1);
+    const cv::Vec3f* p0 = photo.ptr<cv::Vec3f>(y - 1);
+    const cv::Vec3f* p1 = photo.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* p2 = photo.ptr<cv::Vec3f>(y + 1);
+    for (int x = 1; x + 1 < photo.cols; ++x) {
+      if (!(m0[x - 1] && m0[x] && m0[x + 1] && m1[x - 1] && m1[x] && m1[x + 1] && m2[x - 1] &&
+            m2[x] && m2[x + 1]))
+        continue;
+      for (int c = 0; c < 3; ++c) {
+        const float v = (p0[x - 1][c] + p0[x + 1][c] + p2[x - 1][c] + p2[x + 1][c]) -
+                        2.0f * (p0[x][c] + p1[x - 1][c] + p1[x + 1][c] + p2[x][c]) +
+                        4.0f * p1[x][c];
+        r[c].push_back(std::abs(v));
+      }
+    }
+  }
+  if (static_cast<int>(r[0].size()) < std::max(1, minPixels)) return {0, 0, 0};
+  cv::Vec3d sigma;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float>& v = r[c];
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    sigma[c] = v[v.size() / 2] / (0.6745 * 6.0);
+  }
+  return sigma;
+}
 
 struct TextureLossWorkspace {
   ForwardState state;
@@ -71,6 +145,7 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
   forwardDescriptor(photo, m.pyramid, m.bank, o, st, m.psActive);
   m.targetValues = st.values;
   m.descriptor = toDescriptor(st, m.pyramid, o);
+  if (options.photoNoiseFloor) subtractPhotoNoise(photo, mask, m);
   if (options.normalizeByTarget) {
     const double lum = luminance(st.values[0], st.values[1], st.values[2]);
     m.nu = std::max(lum, 1e-3);
@@ -144,6 +219,9 @@ double TextureLossTarget::normalizer() const {
 }
 const std::vector<float>& TextureLossTarget::psStatistics() const {
   return impl_->psValues;
+}
+cv::Vec3d TextureLossTarget::photoNoise() const {
+  return impl_->noise;
 }
 
 double textureLossForward(TextureLossParams& params) {

@@ -112,6 +112,79 @@ TEST(Features_TextureLoss, zero_for_identical_inputs_and_photo_scale_free) {
   EXPECT_NEAR(l3 / l1, 1.0, 1e-3);
 }
 
+// White pixel noise of a known level added to an image (independent per pixel and channel).
+cv::Mat withPixelNoise(const cv::Mat& img, double sigma, uint64_t seed) {
+  Rng rng(seed);
+  cv::Mat out = img.clone();
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x)
+      for (int c = 0; c < 3; ++c)
+        out.at<cv::Vec3f>(y, x)[c] += static_cast<float>(sigma * rng.normal());
+  return out;
+}
+
+// The noise level is read back from a shaded (linear ramp) and a striped image within 10 %;
+// a noise-free image reads near 0; too few interior pixels read 0.
+TEST(Features_PixelNoise, estimate_recovers_the_added_level) {
+  const cv::Size size(160, 120);
+  const cv::Mat mask = diskMask(size, {80, 60}, 50);
+  cv::Mat ramp(size, CV_32FC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x)
+      ramp.at<cv::Vec3f>(y, x) = cv::Vec3f(0.2f, 0.25f, 0.3f) * (1.0f + x / 160.0f + y / 240.0f);
+  for (const double sigma : {0.005, 0.02, 0.05}) {
+    for (const cv::Mat& clean : {ramp, stripes(size, 24.0, 30.0)}) {
+      const cv::Vec3d est = estimatePixelNoise(withPixelNoise(clean, sigma, 11), mask);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(est[c] / sigma, 1.0, 0.1) << sigma << " ch " << c;
+    }
+  }
+  EXPECT_LT(estimatePixelNoise(ramp, mask)[0], 1e-4);
+  EXPECT_EQ(estimatePixelNoise(withPixelNoise(ramp, 0.02, 3), diskMask(size, {80, 60}, 3)),
+            cv::Vec3d(0, 0, 0));
+}
+
+// A render carries no pixel noise. Against a noisy photo of a plain surface, the clean flat
+// render's loss (which was mostly the noise's band energy) drops by 10x with the noise floor,
+// and a grain texture that only mimics the noise no longer beats it; on a striped photo the clean
+// stripes still win, and the target keeps the stripes' band energy.
+TEST(Features_PixelNoise, noise_floor_lets_a_clean_render_match_a_noisy_photo) {
+  const cv::Size size(160, 120);
+  const cv::Mat mask = diskMask(size, {80, 60}, 50);
+  const cv::Mat flat(size, CV_32FC3, cv::Scalar(0.4, 0.36, 0.32));
+  const cv::Mat photo = withPixelNoise(flat, 0.03, 5);
+  cv::Mat grain = noise(size, 0.7, 9);  // fine grain, std 0.12 ...
+  grain = (grain - cv::Scalar::all(0.4)) * 0.3 + flat;  // ... scaled to about the noise's level
+  TextureLossOptions on;
+  on.photoNoiseFloor = true;
+  TextureLossTarget plain(photo, mask), floored(photo, mask, on);
+  EXPECT_EQ(plain.photoNoise(), cv::Vec3d(0, 0, 0));
+  EXPECT_NEAR(floored.photoNoise()[0] / 0.03, 1.0, 0.1);
+  auto loss = [](const TextureLossTarget& t, const cv::Mat& render) {
+    TextureLossParams p;
+    p.target = &t;
+    p.render = render;
+    return textureLossForward(p);
+  };
+  std::printf("plain photo: flat %.4g -> %.4g, grain %.4g -> %.4g\n", loss(plain, flat),
+              loss(floored, flat), loss(plain, grain), loss(floored, grain));
+  EXPECT_LT(loss(floored, flat), 0.1 * loss(plain, flat));
+  EXPECT_LT(loss(plain, grain), loss(plain, flat));  // what went wrong without the floor
+  EXPECT_LT(loss(floored, flat), loss(floored, grain));
+
+  const cv::Mat lines = stripes(size, 12.0, 30.0);
+  const cv::Mat noisyLines = withPixelNoise(lines, 0.03, 6);
+  TextureLossTarget striped(noisyLines, mask, on), stripedPlain(noisyLines, mask);
+  const cv::Mat wider = stripes(size, 12.0 * 1.15, 30.0);
+  std::printf("striped photo: lines %.4g -> %.4g, 15 %% wider %.4g -> %.4g, flat %.4g\n",
+              loss(stripedPlain, lines), loss(striped, lines), loss(stripedPlain, wider),
+              loss(striped, wider), loss(striped, flat));
+  // the floor takes off the noise, not the stripes: the clean stripes match better than
+  // without it, and better than stripes 15 % wider or the flat render
+  EXPECT_LT(loss(striped, lines), 0.5 * loss(stripedPlain, lines));
+  EXPECT_LT(loss(striped, lines), loss(striped, wider));
+  EXPECT_LT(loss(striped, lines), 0.2 * loss(striped, flat));
+}
+
 // The loss grows monotonically as a grating's period departs from the target's, both ways.
 TEST(Features_TextureLoss, grows_monotonically_with_frequency_departure) {
   const cv::Size size(200, 160);

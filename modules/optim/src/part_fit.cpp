@@ -128,7 +128,8 @@ bool PartFitOptions::IsValid(std::string* error) const {
   return true;
 }
 
-double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<cv::Point>& pixels, cv::Mat* grad) {
+double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<cv::Point>& pixels, cv::Mat* grad,
+                const cv::Vec3d& photoNoise) {
   PS_Check(photo.type() == CV_32FC3 && render.type() == CV_32FC3 && photo.size() == render.size(),
            "statLoss: photo and render must be CV_32FC3 of one size");
   if (grad) {
@@ -147,7 +148,7 @@ double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<c
     const cv::Vec3f a = photo.at<cv::Vec3f>(p), b = render.at<cv::Vec3f>(p);
     for (int c = 0; c < 3; ++c) vp[c] += (a[c] - mp[c]) * (a[c] - mp[c]), vr[c] += (b[c] - mr[c]) * (b[c] - mr[c]);
   }
-  for (int c = 0; c < 3; ++c) vp[c] /= n, vr[c] /= n;
+  for (int c = 0; c < 3; ++c) vp[c] = std::max(0.0, vp[c] / n - photoNoise[c] * photoNoise[c]), vr[c] /= n;
   const double nu = std::max(1e-3, luminance(mp[0], mp[1], mp[2]));
   double loss = 0;
   double sMean[3], sVar[3];
@@ -306,7 +307,7 @@ class PartFitter {
     cv::Mat gImage;  // d loss / d render image
     if (o_.statWeight > 0) {
       cv::Mat g;
-      e.stat = statLoss(photo, p.image, geo.pixels, grads ? &g : nullptr);
+      e.stat = statLoss(photo, p.image, geo.pixels, grads ? &g : nullptr, target.photoNoise());
       if (grads) gImage = g * o_.statWeight;
     }
     if (o_.textureWeight > 0) {

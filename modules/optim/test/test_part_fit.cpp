@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstdio>
 
+#include "photoscene/features.hpp"
 #include "photoscene/graph.hpp"
 #include "photoscene/optim.hpp"
 // the in-memory room of the render module's tests (test-only code, shared rather than copied)
@@ -95,6 +96,39 @@ TEST(Optim_PartFit, stat_loss_gradient_matches_finite_differences) {
       maxErr = std::max(maxErr, std::abs(num - g.at<cv::Vec3f>(p)[c]) / std::max(1e-3, std::abs(num)));
     }
   EXPECT_LT(maxErr, 1e-2);
+}
+
+// With the photo's pixel noise given, a noise-free render of the right colour matches the noisy
+// photo: the variance term compares what is left of the photo's variance (none here), and the
+// gradient still matches central differences.
+TEST(Optim_PartFit, stat_loss_takes_the_photos_noise_off_its_variance) {
+  Rng rng(9);
+  const cv::Vec3f colour(0.4f, 0.3f, 0.2f);
+  const double sigma = 0.04;
+  cv::Mat photo(40, 40, CV_32FC3), flat(40, 40, CV_32FC3, cv::Scalar(colour[0], colour[1], colour[2]));
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 3; ++c)
+        photo.at<cv::Vec3f>(y, x)[c] = colour[c] + static_cast<float>(sigma * rng.normal());
+  std::vector<cv::Point> px;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x) px.emplace_back(x, y);
+  const cv::Vec3d noise = estimatePixelNoise(photo, cv::Mat(photo.size(), CV_8UC1, cv::Scalar(255)));
+  const double without = statLoss(photo, flat, px, nullptr);
+  const double with = statLoss(photo, flat, px, nullptr, noise);
+  EXPECT_LT(with, 0.25 * without) << without << " -> " << with;
+  cv::Mat render = flat + cv::Scalar::all(0.01), g;
+  render.at<cv::Vec3f>(5, 5) += cv::Vec3f(0.2f, -0.1f, 0.05f);
+  statLoss(photo, render, px, &g, noise);
+  const double h = 1e-3;
+  for (int c = 0; c < 3; ++c) {
+    cv::Mat a = render.clone(), b = render.clone();
+    a.at<cv::Vec3f>(5, 5)[c] += h;
+    b.at<cv::Vec3f>(5, 5)[c] -= h;
+    const double num =
+        (statLoss(photo, a, px, nullptr, noise) - statLoss(photo, b, px, nullptr, noise)) / (2 * h);
+    EXPECT_NEAR(num, g.at<cv::Vec3f>(5, 5)[c], 1e-2 * std::max(1e-3, std::abs(num)));
+  }
 }
 
 // The worst relative error of the chain's gradient (every continuous graph parameter, the four UV

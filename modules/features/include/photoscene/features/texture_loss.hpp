@@ -73,6 +73,16 @@ struct TextureLossOptions {
   TexturePsOptions ps;
   /// Divide descriptor differences by the photo's mean masked luminance (see the top).
   bool normalizeByTarget = true;
+  /// The photo's pixel noise taken off its statistics: a render carries none of the photo's
+  /// sensor or path-tracing noise, and without this a texture with fine grain matched the noise's
+  /// band energy and beat the flat material on plain parts. The noise level per channel is read
+  /// from the photo (estimatePixelNoise), its share of each statistic from a white-noise image of
+  /// that level through the same mask and filters, and taken off in quadrature: the colour
+  /// standard deviations and the real parts' variances by theirs, the magnitudes' second moment
+  /// (meanMag^2 + stdMag^2) by its, both magnitude entries scaled alike.
+  /// Off by default: on the real-texture yardstick it changed nothing that counts
+  /// (modules/select/README.md, "The photo's noise taken off the target").
+  bool photoNoiseFloor = false;
 
   bool IsValid(std::string* error) const;
 };
@@ -96,6 +106,9 @@ class TextureLossTarget {
   double normalizer() const;                    ///< nu
   /// The photo's joint statistics (texture_ps.hpp layout; empty when every ps weight is 0).
   const std::vector<float>& psStatistics() const;
+  /// The photo's pixel noise per channel (standard deviation, linear units) taken off the
+  /// statistics; 0 without options().photoNoiseFloor.
+  cv::Vec3d photoNoise() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -103,6 +116,14 @@ class TextureLossTarget {
  private:
   std::unique_ptr<Impl> impl_;
 };
+
+/// A photo's pixel noise per channel (standard deviation) over a mask: the median absolute
+/// response of Immerkaer's operator [1 -2 1; -2 4 -2; 1 -2 1] (it cancels a locally linear or
+/// quadratic surface) at the mask pixels whose 3 x 3 neighbourhood is in the mask, over 0.6745 * 6
+/// (the median of |N(0, 1)| times the operator's L2 norm). Texture with energy at the pixel scale
+/// raises it: an upper bound. 0 when fewer than `minPixels` such pixels.
+/// @param photo CV_32FC3; @param mask CV_8UC1 of its size, non-zero = the region
+cv::Vec3d estimatePixelNoise(const cv::Mat& photo, const cv::Mat& mask, int minPixels = 64);
 
 /// Intermediate results of a forward pass, kept for backward (opaque).
 struct TextureLossWorkspace;

@@ -197,8 +197,10 @@ struct PartFitResult {
 
 /// Masked statistics loss (Eq. 6-8, normalised as above) and its gradient with respect to the
 /// render (CV_32FC3, photo size, zero outside `pixels`; written when gradRender != nullptr).
+/// `photoNoise`: the photo's pixel noise per channel (TextureLossTarget::photoNoise), its variance
+/// taken off the photo's (a render has no noise).
 double statLoss(const cv::Mat& photo, const cv::Mat& render, const std::vector<cv::Point>& pixels,
-                cv::Mat* gradRender);
+                cv::Mat* gradRender, const cv::Vec3d& photoNoise = {0, 0, 0});
 
 /// Fits `graph` (a copy is made; its current values are the start) to `photo` over the part.
 /// @param geometry the part in the photo's view (its mask = the loss's mask)
