@@ -7,6 +7,8 @@
 #include "photoscene/core/image.hpp"
 #include "photoscene/core/color.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -93,25 +95,19 @@ void subtractPhotoNoise(const cv::Mat& photo, const cv::Mat& mask, TextureLossTa
 cv::Vec3d estimatePixelNoise(const cv::Mat& photo, const cv::Mat& mask, int minPixels) {
   checkImage(photo, CV_32FC3, photo.size(), "estimatePixelNoise photo");
   checkImage(mask, CV_8UC1, photo.size(), "estimatePixelNoise mask");
+  // the operator's response everywhere, read where the whole 3 x 3 window lies in the mask (the
+  // mask eroded, the image's border counted as outside)
+  static const cv::Matx33f kImmerkaer(1, -2, 1, -2, 4, -2, 1, -2, 1);
+  cv::Mat response, interior;
+  cv::filter2D(photo, response, CV_32F, kImmerkaer);
+  cv::erode(mask, interior, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   std::vector<float> r[3];
-  for (int y = 1; y + 1 < photo.rows; ++y) {
-    const uint8_t* m0 = mask.ptr<uint8_t>(y - 1);
-    const uint8_t* m1 = mask.ptr<uint8_t>(y);
-    const uint8_t* m2 = mask.ptr<uint8_t>(y + 1);
-    const cv::Vec3f* p0 = photo.ptr<cv::Vec3f>(y - 1);
-    const cv::Vec3f* p1 = photo.ptr<cv::Vec3f>(y);
-    const cv::Vec3f* p2 = photo.ptr<cv::Vec3f>(y + 1);
-    for (int x = 1; x + 1 < photo.cols; ++x) {
-      if (!(m0[x - 1] && m0[x] && m0[x + 1] && m1[x - 1] && m1[x] && m1[x + 1] && m2[x - 1] &&
-            m2[x] && m2[x + 1]))
-        continue;
-      for (int c = 0; c < 3; ++c) {
-        const float v = (p0[x - 1][c] + p0[x + 1][c] + p2[x - 1][c] + p2[x + 1][c]) -
-                        2.0f * (p0[x][c] + p1[x - 1][c] + p1[x + 1][c] + p2[x][c]) +
-                        4.0f * p1[x][c];
-        r[c].push_back(std::abs(v));
-      }
-    }
+  for (int y = 0; y < photo.rows; ++y) {
+    const uint8_t* in = interior.ptr<uint8_t>(y);
+    const cv::Vec3f* v = response.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < photo.cols; ++x)
+      if (in[x])
+        for (int c = 0; c < 3; ++c) r[c].push_back(std::abs(v[x][c]));
   }
   if (static_cast<int>(r[0].size()) < std::max(1, minPixels)) return {0, 0, 0};
   cv::Vec3d sigma;
