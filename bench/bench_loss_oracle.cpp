@@ -80,6 +80,21 @@ std::string bandEnergies(const cv::Mat& image, const cv::Mat& mask, double nu) {
   return out;
 }
 
+/// photo | flat | true side by side over the part's bounding box, sRGB, zero outside the mask
+void writeCrops(const fs::path& file, const cv::Mat& mask, const std::vector<cv::Mat>& images) {
+  const cv::Rect box = cv::boundingRect(mask);
+  std::vector<cv::Mat> crops;
+  for (const cv::Mat& im : images) {
+    cv::Mat c = cv::Mat::zeros(box.size(), CV_32FC3);
+    im(box).copyTo(c, mask(box));
+    crops.push_back(c);
+  }
+  cv::Mat row;
+  cv::hconcat(crops, row);
+  fs::create_directories(file.parent_path());
+  io::writeImage(file, row);
+}
+
 struct Row {
   std::string material, split, category, part;
   int pixels = 0;
@@ -116,6 +131,11 @@ int main(int argc, char** argv) {
   app.add_option("--grid-samples", gridSamples, "incident grid: path samples per bin (0: the preset's)");
   app.add_option("--grid-stride", gridStride, "incident grid: pixels between points (0: the preset's)");
   app.add_option("--grid-direct", gridDirect, "incident grid: light samples per point (-1: the preset's 0)");
+  float lobeFilter = 0;
+  app.add_option("--lobe-filter", lobeFilter, "the render layer's lobe filter (RenderLayerParams)")
+      ->check(CLI::Range(0.0f, 4.0f));
+  fs::path dump;
+  app.add_option("--dump", dump, "write photo | flat | true (aligned) crops of each part here");
   bool bands = false;
   app.add_flag("--bands", bands, "print each level's band energy of photo, flat and true renders");
   CLI11_PARSE(app, argc, argv);
@@ -134,7 +154,8 @@ int main(int argc, char** argv) {
   }
 
   const GraphLibrary library = GraphLibrary::load();
-  const PartFitOptions fo = PartFitOptions::preset(preset);
+  PartFitOptions fo = PartFitOptions::preset(preset);
+  fo.lobeFilter = lobeFilter;
   const SynthesisOptions so = synthesisPreset(preset);
   // the pipeline's incident0 grid for the preset (run_options.cpp's PresetBudget)
   IncidentLightOptions io;
@@ -187,6 +208,8 @@ int main(int argc, char** argv) {
       r.flatLoss = r.flat.lossData;
       const UvParams uv = UvParams::fromTransform(twin.materials[id].uv);
       r.aligned = scoreMaps(maps, mat.category, uv, roughness, geo, photo, target, fo);
+      if (!dump.empty()) writeCrops(dump / (name + "_" + part + ".png"), mask,
+                                    {photo, r.flat.render, r.aligned.render});
       Rng rng(fnv1a(name + part));
       for (int k = 0; k < offsets; ++k) {
         UvParams moved = uv;

@@ -110,6 +110,7 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (!(logScaleMax >= logScaleMin)) return fail("logScaleMax < logScaleMin");
   if (specularSub < 1 || specularSub > 8 || searchSpecularSub < 1 || searchSpecularSub > 8)
     return fail("specularSub must be in [1, 8]");
+  if (!(lobeFilter >= 0 && lobeFilter <= 4)) return fail("lobeFilter must be in [0, 4]");
   if (restarts < 0 || restartProbeIterations < 1) return fail("bad restart settings");
   if (coarseLevels < 0 || coarseLevels > 4 || searchLevels < 0 || searchLevels > 4)
     return fail("coarseLevels and searchLevels must be in [0, 4]");
@@ -290,6 +291,7 @@ class PartFitter {
     p.roughnessValue = roughness;
     p.uv = uv;
     p.specularSub = sub;
+    p.lobeFilter = o_.lobeFilter;
     renderLayerForward(p);
     if (matchMeans) {
       // the search compares patterns, not colours: the render's masked channel means are scaled to

@@ -543,6 +543,7 @@ struct RenderLayerWorkspace {
   int subCount = 0;   // bins * sub^2 (real sub-directions)
   int subPadded = 0;  // subCount rounded up to kLanes
   float subSolidAngle = 0;
+  float lobeFloor2 = 0;  // (lobeFilter * sqrt(subSolidAngle))^2, added to alpha^2
   int sub = 0;
 };
 
@@ -634,8 +635,10 @@ Vec3f shadePixel(const RenderLayerParams& p, const RenderLayerWorkspace& ws, int
   const bool noSpec = std::max({F0[0], F0[1], F0[2]}) <= 0.0f;
   const float f90 = std::min(1.0f, 50.0f * F0[1]);
   const float rc = clampv(std::isfinite(rough) ? rough : 1.0f, 0.0f, 1.0f);
-  const float alpha = std::max(rc * rc, kMinAlpha);
-  const float dAlphaDr = (rc * rc > kMinAlpha && rough > 0 && rough < 1) ? 2 * rc : 0.0f;
+  const float alphaMat = std::max(rc * rc, kMinAlpha);
+  const float alpha = std::sqrt(alphaMat * alphaMat + ws.lobeFloor2);
+  const float dAlphaDr =
+      (rc * rc > kMinAlpha && rough > 0 && rough < 1) ? 2 * rc * alphaMat / alpha : 0.0f;
   const int B = geo.bins;
   const float* L0 = &geo.light[static_cast<size_t>(k) * 3 * B];  // planar: [c * bins + b]
   const float* Lc[3] = {L0, L0 + B, L0 + 2 * B};
@@ -801,6 +804,8 @@ void prepareWorkspace(RenderLayerParams& p) {
   PS_Check(p.geometry != nullptr, "render layer: params.geometry is null");
   PS_Check(!p.albedo.empty(), "render layer: the albedo map is required");
   PS_Check(p.specularSub >= 1 && p.specularSub <= 8, "render layer: specularSub must be in [1, 8]");
+  PS_Check(std::isfinite(p.lobeFilter) && p.lobeFilter >= 0 && p.lobeFilter <= 4,
+           "render layer: lobeFilter must be in [0, 4]");
   PS_Check(std::isfinite(p.uv.rotation) && std::isfinite(p.uv.logScale) && p.uv.offset.allFinite(),
            "render layer: UV parameters must be finite");
   auto ws = std::make_shared<RenderLayerWorkspace>();
@@ -811,6 +816,7 @@ void prepareWorkspace(RenderLayerParams& p) {
   const int sub = p.specularSub;
   ws->sub = sub;
   ws->subSolidAngle = g.binSolidAngle / (sub * sub);
+  ws->lobeFloor2 = p.lobeFilter * p.lobeFilter * ws->subSolidAngle;
   PS_Check(g.bins == g.thetaBins * g.phiBins && static_cast<int>(g.binDir.size()) == g.bins &&
                g.light.size() == static_cast<size_t>(g.size()) * g.bins * 3,
            "render layer: PartGeometry bins, binDir and light sizes disagree");

@@ -122,6 +122,9 @@ struct PartFitOptions {
   /// The texture statistics alone can prefer a wrong period at the default parameters (wider
   /// planks with faint gaps), and the fit then adapts the parameters to it.
   float spectrumScaleWindow = 0.1f;
+  /// The layer's lobe filter (RenderLayerParams::lobeFilter; 0 = off): glossy lobes widened to
+  /// the spacing of the directions the layer sums them over.
+  float lobeFilter = 0.0f;
   int specularSub = 1;             ///< the layer's specularSub during the Adam iterations
   int searchSpecularSub = 1;       ///< the layer's specularSub during searches (cheaper)
   /// Coarse to fine in image space: the part is also seen at 1/2, 1/4, ... of the photo's
