@@ -46,17 +46,8 @@ namespace {
 
 constexpr int kSkipCode = 77;
 
-uint64_t fnv1a(const std::string& s) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-std::string splitOf(const std::string& name) {
-  return fnv1a(name) % 2 == 0 ? "tune" : "check";
-}
+using bench::fnv1a;
+using bench::splitOf;
 
 MaterialMaps trueMaps(const bench::RealMaterial& m, int size) {
   MaterialMaps maps;

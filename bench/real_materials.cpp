@@ -86,4 +86,15 @@ cv::Mat loadNormalMap(const fs::path& file, bool directX, int size) {
   return normal;
 }
 
+uint64_t fnv1a(const std::string& s) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string splitOf(const std::string& name) { return fnv1a(name) % 2 == 0 ? "tune" : "check"; }
+
 }  // namespace ps::bench

@@ -4,6 +4,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -31,5 +32,10 @@ std::vector<RealMaterial> listRealMaterials(const std::filesystem::path& data);
 /// DirectX map's y is flipped and z is kept at least 1e-3 (no normal below the surface). Throws
 /// ps::InputError when the file cannot be read.
 cv::Mat loadNormalMap(const std::filesystem::path& file, bool directX, int size);
+
+/// 64-bit FNV-1a of `s`: the fixed hash behind the split and the cases' random streams.
+uint64_t fnv1a(const std::string& s);
+/// The yardstick's half of a material: "tune" or "check", by the parity of fnv1a(name).
+std::string splitOf(const std::string& name);
 
 }  // namespace ps::bench
