@@ -82,14 +82,26 @@ def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, norma
     g.done()
 
 
-def rough_from(g, src, lo, hi, id='rough'):
-    g.n(id, 'levels', {'in': src}, out_low=lo, out_high=hi)
-    g.p('roughness_min', id + '.out_low', min=0.0, max=1.0)
-    g.p('roughness_max', id + '.out_high', min=0.0, max=1.0)
+
+
+# ---------------------------------------------------------------- subgraphs shared by many graphs
+# (the node list and the parameter list are separate, so a helper may add its parameters before
+# or after its nodes without changing either list's order)
+def rough_range(g, src, low, high, names=('roughness_min', 'roughness_max'), id='rough', ends=('out_low', 'out_high')):
+    """Roughness: `src` remapped by a levels node (0 to `low`, 1 to `high`), out_low and out_high exposed as `names`."""
+    g.n(id, 'levels', {'in': src}, out_low=low, out_high=high)
+    for name, end in zip(names, ends):
+        g.p(name, id + '.' + end)
     return id
 
 
+def rough_falling(g, src, low, high, names=('roughness_min', 'roughness_max')):
+    """rough_range for a roughness falling as `src` rises (low > high): names[0], the minimum, is the node's out_high."""
+    return rough_range(g, src, low, high, names, ends=('out_high', 'out_low'))
+
+
 def colors3(g, id, src, c0, c1, c2, pos=0.5, prefix='color'):
+    """A three-colour gradient map of `src`, its dark, mid and light colours exposed."""
     g.n(id, 'gradient_map', {'in': src}, color_0=c0, color_1=c1, color_2=c2, position=pos)
     g.p(prefix + '_dark', id + '.color_0', doc='ramp color at 0')
     g.p(prefix + '_mid', id + '.color_1', doc='ramp color at the midpoint')
@@ -97,56 +109,181 @@ def colors3(g, id, src, c0, c1, c2, pos=0.5, prefix='color'):
     return id
 
 
+def uniform(g, id, color, param=None):
+    """A uniform colour node, its colour exposed as `param` when one is given."""
+    g.n(id, 'uniform_color', color=color)
+    if param:
+        g.p(param, id + '.color')
+    return id
+
+
+def palette(g, colors, names, ids=('ca', 'cb', 'cc')):
+    """Uniform colour nodes (ids 'ca', 'cb', ...), each colour exposed under its name."""
+    for id, color, name in zip(ids, colors, names):
+        uniform(g, id, color, name)
+    return ids[:len(colors)]
+
+
+def blend(g, id, fg, bg, mask=None, param=None, mode=None, opacity=None, **limits):
+    """A blend node of `fg` over `bg` (through `mask` if given), its opacity exposed as `param` when given."""
+    inputs = {'fg': fg, 'bg': bg}
+    if mask:
+        inputs['mask'] = mask
+    g.n(id, 'blend', inputs, **{k: v for k, v in (('mode', mode), ('opacity', opacity)) if v is not None})
+    if param:
+        g.p(param, id + '.opacity', **limits)
+    return id
+
+
+def two_tone(g, out, mask, colors, names, ids=('ca', 'cb')):
+    """Two exposed uniform colours, the second shown where `mask` is 1: node `out`."""
+    palette(g, colors, names, ids)
+    return blend(g, out, ids[1], ids[0], mask)
+
+
+def three_tone(g, colors, names, masks, out=('m1', 'm2')):
+    """Three exposed uniform colours: the second over the first through masks[0], the third over that through masks[1]."""
+    palette(g, colors, names)
+    blend(g, out[0], 'cb', 'ca', masks[0])
+    return blend(g, out[1], 'cc', out[0], masks[1])
+
+
+def warp_weft_colors(g, warp, weft, mask, ids=('ca', 'cb')):
+    """Exposed warp and weft colours, the warp shown where `mask` (the weave's warp mask) is 1: node 'cm'."""
+    palette(g, (warp, weft), ('warp_color', 'weft_color'), ids)
+    return blend(g, 'cm', ids[0], ids[1], mask)
+
+
+def over_ground(g, fg, id, color, param, mask, out='alb'):
+    """`fg` where `mask` is 1, an exposed uniform colour (node `id`) elsewhere (grout, mortar, holes): node `out`."""
+    uniform(g, id, color, param)
+    return blend(g, out, fg, id, mask)
+
+
+def shaded(g, color, src, low, param=None, floor=0.0, id='sh', out='alb'):
+    """`color` multiplied by `src` remapped to [low, 1]; the darkest shade exposed as `param` (from `floor` to 1)."""
+    g.n(id, 'levels', {'in': src}, out_low=low, out_high=1.0)
+    if param:
+        g.p(param, id + '.out_low', min=floor, max=1.0)
+    return blend(g, out, id, color, mode='multiply')
+
+
+def tinted(g, id, color, color_param, src, low, shade_param=None, floor=0.0, sh='sh', out='alb'):
+    """An exposed uniform colour (node `id`) shaded by `src` as in shaded(): node `out`."""
+    uniform(g, id, color, color_param)
+    return shaded(g, id, src, low, shade_param, floor, sh, out)
+
+
+def fuzz(g, src, scale, opacity, seed, id='hf'):
+    """`src` overlaid with fine fbm fuzz (node 'fz'), its opacity exposed as `fuzz`: node `id`."""
+    g.n('fz', 'fbm', scale_x=scale, scale_y=scale, octaves=2, roughness=0.5, seed=seed)
+    return blend(g, id, 'fz', src, param='fuzz', mode='overlay', opacity=opacity)
+
+
+def diagonals(g, ids, count, width, softness):
+    """Two stripe nodes alike but for their direction: one diagonal, one antidiagonal."""
+    for id, direction in zip(ids, ('diagonal', 'antidiagonal')):
+        g.n(id, 'stripes', count=count, direction=direction, width=width, softness=softness)
+
+
+def triangle_waves(g, repeats):
+    """Triangle waves along u ('tu') and v ('tv'); blended they give diamonds or squares."""
+    for id, direction in (('tu', 'u'), ('tv', 'v')):
+        g.n(id, 'gradient_linear', direction=direction, repeats=repeats, shape='triangle')
+
+
+def staggered_discs(g, ids, count, size, softness, offset):
+    """A grid of discs and its copy moved by `offset` along u and v, merged (max): node ids[2]."""
+    g.n(ids[0], 'shape', count=count, shape='disc', size=size, softness=softness)
+    g.n(ids[1], 'transform', {'in': ids[0]}, offset_u=offset, offset_v=offset)
+    return blend(g, ids[2], ids[0], ids[1], mode='max')
+
+
+def fully_metallic(g):
+    """A metallic map of 1 everywhere (node 'metal'), exposed as `metallic`."""
+    g.n('metal', 'uniform_gray', value=1.0)
+    g.p('metallic', 'metal.value')
+    return 'metal'
+
+
+def metallic_where(g, mask, high, param):
+    """A metallic map following `mask` (0 to `high`), its high end exposed as `param`: node 'metal'."""
+    g.n('metal', 'levels', {'in': mask}, out_low=0.0, out_high=high)
+    g.p(param, 'metal.out_high')
+    return 'metal'
+
+
 # ---------------------------------------------------------------- wood
-def wood_grain(g, rings=36, seed=1, warp=0.025, fiber=0.35):
+def wood_grain(g, seed=1, rings=36, warp=0.025, fiber=0.35):
     """Gray grain along u: soft stripes across v, gently wavy (long waves), with fine fibers."""
     g.n('ring', 'stripes', count=rings, direction='v', width=0.35, softness=0.35)
-    g.n('wave', 'fbm', scale_x=1, scale_y=2, octaves=3, roughness=0.35, seed=seed)
-    g.n('wavy', 'directional_warp', {'in': 'ring', 'height': 'wave'}, intensity=warp, angle=0.25)
-    g.n('fib', 'fbm', scale_x=4, scale_y=96, octaves=3, roughness=0.6, seed=seed + 7)
-    g.n('grain', 'blend', {'fg': 'fib', 'bg': 'wavy'}, mode='overlay', opacity=fiber)
+    return wavy_fibers(g, 'ring', seed, 1, warp, fiber)
+
+
+def wavy_fibers(g, rings, seed, wave_scale, warp, fiber):
+    """The rings `rings` (from stripe node 'ring') bent by long fbm waves, overlaid with fine fibers: node 'grain'."""
+    g.n('wave', 'fbm', scale_x=wave_scale, scale_y=2, octaves=3, roughness=0.35, seed=seed)
+    g.n('wavy', 'directional_warp', {'in': rings, 'height': 'wave'}, intensity=warp, angle=0.25)
     g.p('ring_waviness', 'wavy.intensity', min=0.0, max=0.05)
     g.p('ring_width', 'ring.width', min=0.1, max=0.8)
-    g.p('fiber_strength', 'grain.opacity', min=0.0, max=1.0)
-    return 'grain'
+    g.n('fib', 'fbm', scale_x=4, scale_y=96, octaves=3, roughness=0.6, seed=seed + 7)
+    return blend(g, 'grain', 'fib', 'wavy', param='fiber_strength', mode='overlay', opacity=fiber, min=0.0, max=1.0)
 
 
 def wood_colors(g, src, light=(0.45, 0.26, 0.12), mid=(0.30, 0.15, 0.06), dark=(0.16, 0.07, 0.025)):
+    """The wood colour ramp (node 'wcol') over the gray grain `src`."""
     return colors3(g, 'wcol', src, list(dark), list(mid), list(light), 0.5, 'wood')
 
 
-def wood_planks(name, rows, cols, layout, col, seed, desc):
+def dark_joints(g, base, height, color, out='alb', out_first=False, **params):
+    """`base` multiplied by a dark uniform colour in the joints (where the tile `height` is low): node `out`."""
+    if out_first:
+        blend(g, out, 'gapc', base, 'gapm', mode='multiply', **params)
+    g.n('gapm', 'invert', {'in': height})
+    g.n('gapc', 'uniform_color', color=color)
+    if not out_first:
+        blend(g, out, 'gapc', base, 'gapm', mode='multiply', **params)
+    return out
+
+
+def finish_wood(g, grain, joints, albedo, rough, shift, **kw):
+    """Finishes a floor of wood pieces: the grain faintly in the joints' relief, the roughness following the grain."""
+    g.n('h', 'blend', {'fg': grain, 'bg': joints}, mode='multiply', opacity=0.15)
+    finish(g, 'h', rough_range(g, grain, *rough), albedo, 0.005, normal_max=0.03, shift=shift, **kw)
+
+
+def wood_planks(name, desc, grain_fn, rows, cols, layout, col, seed, tint=0.5, lum_var=0.5, gap=0.02, bevel=0.03,
+                rough=(0.5, 0.38), shift=None, first=False):
+    """Planks cut from the grain `grain_fn(g, seed)`; `first`: the library's first plank floors (rows and row
+    offset exposed, the joint node 'gap_dark' listed ahead of its inputs), kept so that their files stay as they are."""
     g = G(name, 'wood', desc)
-    grain = wood_grain(g, seed=seed)
+    grain = grain_fn(g, seed)
     g.n('tiles', 'tile', {'pattern': grain}, layout=layout, rows=rows, cols=cols, row_offset=0.5 if layout == 'bricks' else 0.9,
-        gap=0.02, bevel=0.03, lum_var=0.5, seed=seed)
+        gap=gap, bevel=bevel, lum_var=lum_var, seed=seed)
     g.p('plank_gap', 'tiles.gap', min=0.0, max=0.1)
     g.p('plank_bevel', 'tiles.bevel', min=0.005, max=0.2)
-    g.p('plank_rows', 'tiles.rows', min=2, max=24)
-    g.p('row_offset', 'tiles.row_offset')
+    if first:
+        g.p('plank_rows', 'tiles.rows', min=2, max=24)
+        g.p('row_offset', 'tiles.row_offset')
     g.p('plank_variation', 'tiles.lum_var')
     c = wood_colors(g, 'tiles.sampled', *col)
-    g.n('tint', 'blend', {'fg': 'tiles.random', 'bg': c}, mode='overlay', opacity=0.5)
-    g.p('plank_tint', 'tint.opacity', doc='per-plank brightness variation')
-    g.n('gap_dark', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply', opacity=1.0)
-    g.n('gapm', 'invert', {'in': 'tiles.height'})
-    g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
-    g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
-    r = rough_from(g, grain, 0.5, 0.38)
-    # the roughness follows the unsampled grain (no joints): only albedo and height move; along u
-    # only the running bond needs it (`planks` rows have random offsets, so a plank end lies on
-    # the border no more often than on any other column; moving them also made the optim test's
-    # UV-rotation recovery on wood_planks land 34 degrees off)
-    finish(g, 'h', r, 'gap_dark', 0.005, normal_max=0.03, shift=(0.25 / cols if layout == 'bricks' else 0.0, 0.5 / rows),
-           shift_maps=('alb', 'hgt'))
+    blend(g, 'tint', 'tiles.random', c, param='plank_tint', mode='overlay', opacity=tint, doc='per-plank brightness variation')
+    alb = dark_joints(g, 'tint', 'tiles.height', [0.25, 0.2, 0.17], 'gap_dark' if first else 'alb', first, opacity=1.0)
+    # the roughness follows the unsampled grain (no joints): only albedo and height move. Shift: by
+    # default half a plank; the random row offsets of `planks` can still put a plank end on the
+    # border, then a measured shift is given (the first floors move along v only: a plank end lies
+    # on the border no more often than on any other column, and moving them along u also made the
+    # optim test's UV-rotation recovery on wood_planks land 34 degrees off)
+    finish_wood(g, grain, 'tiles.height', alb, rough, shift or ((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows),
+                shift_maps=('alb', 'hgt'))
 
 
-wood_planks('wood_planks', 8, 2, 'planks', ((0.50, 0.30, 0.14), (0.34, 0.18, 0.07), (0.18, 0.08, 0.03)), 1,
-            'Oak-like floor planks with random row offsets, grain following each plank.')
-wood_planks('wood_planks_dark', 6, 1, 'planks', ((0.20, 0.10, 0.05), (0.12, 0.06, 0.03), (0.06, 0.03, 0.015)), 5,
-            'Dark walnut-like wide planks.')
-wood_planks('wood_planks_light', 10, 3, 'bricks', ((0.70, 0.52, 0.32), (0.58, 0.40, 0.22), (0.40, 0.26, 0.12)), 9,
-            'Light maple/pine planks in a regular running bond.')
+wood_planks('wood_planks', 'Oak-like floor planks with random row offsets, grain following each plank.', wood_grain, 8, 2, 'planks',
+            ((0.50, 0.30, 0.14), (0.34, 0.18, 0.07), (0.18, 0.08, 0.03)), 1, shift=(0.0, 0.5 / 8), first=True)
+wood_planks('wood_planks_dark', 'Dark walnut-like wide planks.', wood_grain, 6, 1, 'planks',
+            ((0.20, 0.10, 0.05), (0.12, 0.06, 0.03), (0.06, 0.03, 0.015)), 5, shift=(0.0, 0.5 / 6), first=True)
+wood_planks('wood_planks_light', 'Light maple/pine planks in a regular running bond.', wood_grain, 10, 3, 'bricks',
+            ((0.70, 0.52, 0.32), (0.58, 0.40, 0.22), (0.40, 0.26, 0.12)), 9, first=True)
 
 
 def parquet_herringbone():
@@ -158,14 +295,9 @@ def parquet_herringbone():
     g.p('plank_gap', 'hb.gap', min=0.0, max=0.2)
     g.p('plank_bevel', 'hb.bevel', min=0.005, max=0.3)
     c = wood_colors(g, 'hb.sampled', (0.52, 0.32, 0.15), (0.36, 0.19, 0.08), (0.2, 0.09, 0.035))
-    g.n('tint', 'blend', {'fg': 'hb.random', 'bg': c}, mode='overlay', opacity=0.5)
-    g.p('plank_tint', 'tint.opacity')
-    g.n('gapm', 'invert', {'in': 'hb.height'})
-    g.n('gapc', 'uniform_color', color=[0.3, 0.25, 0.2])
-    g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply')
-    g.n('h', 'blend', {'fg': grain, 'bg': 'hb.height'}, mode='multiply', opacity=0.15)
-    r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03, shift=(1 / 64, 3 / 64))
+    blend(g, 'tint', 'hb.random', c, param='plank_tint', mode='overlay', opacity=0.5)
+    dark_joints(g, 'tint', 'hb.height', [0.3, 0.25, 0.2])
+    finish_wood(g, grain, 'hb.height', 'alb', (0.45, 0.35), (1 / 64, 3 / 64))
 
 
 parquet_herringbone()
@@ -182,11 +314,8 @@ def parquet_grid():
     g.p('block_bevel', 'tiles.bevel', min=0.005, max=0.2)
     g.p('block_variation', 'tiles.lum_var')
     c = wood_colors(g, 'mix', (0.55, 0.36, 0.18), (0.40, 0.23, 0.10), (0.22, 0.11, 0.04))
-    g.n('tint', 'blend', {'fg': 'tiles.random', 'bg': c}, mode='overlay', opacity=0.4)
-    g.p('block_tint', 'tint.opacity')
-    g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
-    r = rough_from(g, grain, 0.45, 0.35)
-    finish(g, 'h', r, 'tint', 0.005, normal_max=0.03, shift=(1 / 12, 1 / 12))
+    blend(g, 'tint', 'tiles.random', c, param='block_tint', mode='overlay', opacity=0.4)
+    finish_wood(g, grain, 'tiles.height', 'tint', (0.45, 0.35), (1 / 12, 1 / 12))
 
 
 parquet_grid()
@@ -199,7 +328,7 @@ def veneer():
     g.n('hsl', 'hsl', {'in': c})
     g.p('hue_shift', 'hsl.hue', min=-0.01, max=0.01)
     g.p('saturation', 'hsl.saturation', min=0.85, max=1.2)
-    r = rough_from(g, grain, 0.35, 0.25)
+    r = rough_range(g, grain, 0.35, 0.25)
     g.n('h', 'levels', {'in': grain}, out_low=0.4, out_high=0.6)
     finish(g, 'h', r, 'hsl', 0.005)
 
@@ -214,17 +343,13 @@ def painted_wood():
     g.p('board_count', 'tiles.cols', min=2, max=16)
     g.p('board_gap', 'tiles.gap', min=0.0, max=0.05)
     g.n('rot', 'transform', {'in': 'tiles.sampled'}, rotation='90')
-    g.n('paint', 'uniform_color', color=[0.70, 0.69, 0.64])
-    g.p('paint_color', 'paint.color')
-    g.n('shade', 'levels', {'in': 'rot'}, out_low=0.85, out_high=1.0)
-    g.p('grain_show_through', 'shade.out_low', min=0.5, max=1.0)
-    g.n('alb0', 'blend', {'fg': 'shade', 'bg': 'paint'}, mode='multiply')
+    tinted(g, 'paint', [0.70, 0.69, 0.64], 'paint_color', 'rot', 0.85, 'grain_show_through', 0.5, sh='shade', out='alb0')
     # the board layout turns with the grain (horizontal boards, grain along them)
     g.n('roth', 'transform', {'in': 'tiles.height'}, rotation='90')
     g.n('gapm', 'invert', {'in': 'roth'})
     g.n('alb', 'blend', {'fg': 'gapm', 'bg': 'alb0'}, mode='subtract', opacity=0.5)
     g.n('h', 'blend', {'fg': 'rot', 'bg': 'roth'}, mode='multiply', opacity=0.1)
-    r = rough_from(g, 'rot', 0.45, 0.3)
+    r = rough_range(g, 'rot', 0.45, 0.3)
     g.n('rj', 'blend', {'fg': 'gapm', 'bg': r}, mode='add', opacity=0.3)
     finish(g, 'h', 'rj', 'alb', 0.005, normal_max=0.03, shift=(0.25, 1 / 24))
 
@@ -232,32 +357,49 @@ def painted_wood():
 painted_wood()
 
 # ---------------------------------------------------------------- tiles
+def joint_params(g, id, grout=(0.0, 0.3), bevel=(0.005, 0.3)):
+    """A tile node's grout width, bevel (unless `bevel` is None) and tile variation exposed."""
+    g.p('grout_width', id + '.gap', min=grout[0], max=grout[1])
+    if bevel:
+        g.p('bevel', id + '.bevel', min=bevel[0], max=bevel[1])
+    g.p('tile_variation', id + '.lum_var')
+
+
+def mottled(g, random, scale, opacity, octaves=5, seed=5, cloud='cloud', param='surface_mottling'):
+    """Per-tile values `random` overlaid with an fbm cloud (node `cloud`), its opacity exposed as `param`: node 'var'."""
+    g.n(cloud, 'fbm', scale_x=scale, scale_y=scale, octaves=octaves, roughness=0.5, seed=seed)
+    return blend(g, 'var', cloud, random, param=param, mode='overlay', opacity=opacity)
+
+
+def grout_rough(g, joints, tile_rough, tile='tile'):
+    """Roughness from the tile mask `joints`: matte grout (0.8), `tile_rough` on the faces, both exposed."""
+    return rough_range(g, joints, 0.8, tile_rough, ('roughness_grout', 'roughness_' + tile))
+
+
+def glazed_in_grout(g, grout, tile_rough, shift):
+    """Finishes glazed tiles (colour node 'tc', tile node 't'): exposed grout colour in the joints, faint fbm
+    relief, glossy faces in matte grout."""
+    over_ground(g, 'tc', 'gc', grout, 'grout_color', 't.height')
+    g.n('gn', 'fbm', scale_x=32, scale_y=32, octaves=3, roughness=0.5, seed=9)
+    g.n('h', 'blend', {'fg': 'gn', 'bg': 't.height'}, mode='multiply', opacity=0.05)
+    g.n('rm', 'blend', {'fg': 't.height', 'bg': 'gn'}, mode='copy', opacity=0.9)
+    grout_rough(g, 'rm', tile_rough)
+    finish(g, 'h', 'rough', 'alb', 0.01, shift=shift)
+
+
 def tile_graph(name, desc, layout, rows, cols, tile_col, grout_col, gap, bevel, var, rough=(0.12, 0.2), noise_scale=4,
-               category='tile', shape_mask=None):
+               category='tile'):
     g = G(name, category, desc)
     g.n('t', 'tile', layout=layout, rows=rows, cols=cols, row_offset=0.5, gap=gap, bevel=bevel, lum_var=var, seed=3)
     g.p('rows', 't.rows', min=max(1, rows // 3), max=rows * 3)
     g.p('cols', 't.cols', min=max(1, cols // 3), max=cols * 3)
-    g.p('grout_width', 't.gap', min=0.0, max=0.3)
-    g.p('bevel', 't.bevel', min=0.005, max=0.3)
-    g.p('tile_variation', 't.lum_var')
-    g.n('cloud', 'fbm', scale_x=noise_scale, scale_y=noise_scale, octaves=5, roughness=0.5, seed=5)
-    g.n('var', 'blend', {'fg': 'cloud', 'bg': 't.random'}, mode='overlay', opacity=0.3)
-    g.p('surface_mottling', 'var.opacity')
+    joint_params(g, 't')
+    mottled(g, 't.random', noise_scale, 0.3)
     g.n('tc', 'gradient_map', {'in': 'var'}, color_0=[c * 0.8 for c in tile_col], color_1=tile_col,
         color_2=[min(1.0, c * 1.15) for c in tile_col], position=0.5)
     g.p('tile_color', 'tc.color_1')
     g.p('tile_color_dark', 'tc.color_0')
-    g.n('gc', 'uniform_color', color=grout_col)
-    g.p('grout_color', 'gc.color')
-    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 't.height'})
-    g.n('gn', 'fbm', scale_x=32, scale_y=32, octaves=3, roughness=0.5, seed=9)
-    g.n('h', 'blend', {'fg': 'gn', 'bg': 't.height'}, mode='multiply', opacity=0.05)
-    g.n('rm', 'blend', {'fg': 't.height', 'bg': 'gn'}, mode='copy', opacity=0.9)
-    g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=rough[0])
-    g.p('roughness_grout', 'rough.out_low')
-    g.p('roughness_tile', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01, shift=((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows))
+    glazed_in_grout(g, grout_col, rough[0], ((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows))
 
 
 tile_graph('tile_square_ceramic', 'Square glazed ceramic tiles with light grout.', 'grid', 6, 6,
@@ -278,27 +420,14 @@ def checker_tiles():
     # the checker node's count is periods of 2 x 2 squares: count 4 gives the 8 x 8 squares of
     # the 8 x 8 tiles (one colour per tile)
     g.n('chk', 'checker', count=4, softness=0.002)
-    g.p('grout_width', 't.gap', min=0.0, max=0.2)
-    g.p('bevel', 't.bevel', min=0.005, max=0.3)
-    g.p('tile_variation', 't.lum_var')
-    g.n('cloud', 'fbm', scale_x=4, scale_y=4, octaves=5, roughness=0.5, seed=5)
-    g.n('var', 'blend', {'fg': 'cloud', 'bg': 't.random'}, mode='overlay', opacity=0.2)
-    g.p('surface_mottling', 'var.opacity')
+    joint_params(g, 't', grout=(0.0, 0.2))
+    mottled(g, 't.random', 4, 0.2)
     g.n('ca', 'gradient_map', {'in': 'var'}, color_0=[0.62, 0.62, 0.6], color_1=[0.75, 0.75, 0.73], color_2=[0.82, 0.82, 0.8])
     g.p('light_tile_color', 'ca.color_1')
     g.n('cb', 'gradient_map', {'in': 'var'}, color_0=[0.012, 0.012, 0.013], color_1=[0.025, 0.025, 0.027], color_2=[0.04, 0.04, 0.042])
     g.p('dark_tile_color', 'cb.color_1')
-    g.n('tc', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 'chk'})
-    g.n('gc', 'uniform_color', color=[0.45, 0.44, 0.42])
-    g.p('grout_color', 'gc.color')
-    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 't.height'})
-    g.n('gn', 'fbm', scale_x=32, scale_y=32, octaves=3, roughness=0.5, seed=9)
-    g.n('h', 'blend', {'fg': 'gn', 'bg': 't.height'}, mode='multiply', opacity=0.05)
-    g.n('rm', 'blend', {'fg': 't.height', 'bg': 'gn'}, mode='copy', opacity=0.9)
-    g.n('rough', 'levels', {'in': 'rm'}, out_low=0.8, out_high=0.12)
-    g.p('roughness_grout', 'rough.out_low')
-    g.p('roughness_tile', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01, shift=(1 / 16, 1 / 16))
+    blend(g, 'tc', 'ca', 'cb', 'chk')
+    glazed_in_grout(g, [0.45, 0.44, 0.42], 0.12, (1 / 16, 1 / 16))
 
 
 checker_tiles()
@@ -306,21 +435,15 @@ checker_tiles()
 
 def hex_tiles():
     g = G('tile_hexagon', 'tile', 'Hexagon-like penny mosaic: discs of glazed tile in grout (offset rows).')
-    g.n('d1', 'shape', count=12, shape='disc', size=0.9, softness=0.06)
-    g.n('d2', 'transform', {'in': 'd1'}, offset_u=0.0416667, offset_v=0.0416667)
-    g.n('d', 'blend', {'fg': 'd1', 'bg': 'd2'}, mode='max')
+    staggered_discs(g, ('d1', 'd2', 'd'), 12, 0.9, 0.06, 0.0416667)
     g.p('tile_size', 'd1.size', min=0.5, max=1.0)
     g.p('edge_softness', 'd1.softness', min=0.02, max=0.2)
     g.n('rnd', 'white_noise', scale=24, seed=4)
     g.n('tc', 'gradient_map', {'in': 'rnd'}, color_0=[0.75, 0.75, 0.72], color_1=[0.8, 0.8, 0.78], color_2=[0.9, 0.9, 0.88])
     g.p('tile_color_a', 'tc.color_0')
     g.p('tile_color_b', 'tc.color_2')
-    g.n('gc', 'uniform_color', color=[0.3, 0.3, 0.3])
-    g.p('grout_color', 'gc.color')
-    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 'd'})
-    g.n('rough', 'levels', {'in': 'd'}, out_low=0.8, out_high=0.1)
-    g.p('roughness_grout', 'rough.out_low')
-    g.p('roughness_tile', 'rough.out_high')
+    over_ground(g, 'tc', 'gc', [0.3, 0.3, 0.3], 'grout_color', 'd')
+    grout_rough(g, 'd', 0.1)
     finish(g, 'd', 'rough', 'alb', 0.004, shift=(1 / 64, 1 / 64))
 
 
@@ -339,14 +462,11 @@ def marble(name, desc, base, vein, seed, scale=2):
     g.p('vein_flow', 'sw2.intensity', min=0.0, max=0.2)
     g.n('veins', 'levels', {'in': 'sw2'}, gamma=0.6)
     g.p('vein_contrast', 'veins.gamma', min=0.2, max=1.5)
-    g.n('cl', 'blend', {'fg': 'f', 'bg': 'veins'}, mode='screen', opacity=0.3)
-    g.p('clouding', 'cl.opacity')
+    blend(g, 'cl', 'f', 'veins', param='clouding', mode='screen', opacity=0.3)
     g.n('col', 'gradient_map', {'in': 'cl'}, color_0=base, color_1=[(a + b) / 2 for a, b in zip(base, vein)], color_2=vein, position=0.6)
     g.p('stone_color', 'col.color_0')
     g.p('vein_color', 'col.color_2')
-    g.n('rough', 'levels', {'in': 'veins'}, out_low=0.08, out_high=0.15)
-    g.p('roughness_base', 'rough.out_low')
-    g.p('roughness_veins', 'rough.out_high')
+    rough_range(g, 'veins', 0.08, 0.15, ('roughness_base', 'roughness_veins'))
     finish(g, 'veins', 'rough', 'col', 0.001)
 
 
@@ -358,15 +478,12 @@ def granite(name, desc, c0, c1, c2, seed, cat='stone', rough=(0.15, 0.3), scale=
     g = G(name, cat, desc)
     g.n('v', 'voronoi', scale=scale, jitter=1.0, mode='cell_value', seed=seed)
     g.n('f', 'fbm', scale_x=8, scale_y=8, octaves=5, roughness=0.6, seed=seed + 1)
-    g.n('m', 'blend', {'fg': 'f', 'bg': 'v'}, mode='overlay', opacity=0.5)
-    g.p('cloudiness', 'm.opacity')
+    blend(g, 'm', 'f', 'v', param='cloudiness', mode='overlay', opacity=0.5)
     g.n('hs', 'histogram_scan', {'in': 'm'}, position=0.5, contrast=0.3)
     g.p('speckle_amount', 'hs.position', min=0.2, max=0.8)
     g.p('speckle_contrast', 'hs.contrast', min=0.0, max=0.9)
     colors3(g, 'col', 'hs', c0, c1, c2, 0.5, 'stone')
-    g.n('rough', 'levels', {'in': 'hs'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
+    rough_range(g, 'hs', *rough)
     g.n('h', 'levels', {'in': 'f'}, out_low=0.45, out_high=0.55)
     finish(g, 'h', 'rough', 'col', 0.005)
 
@@ -382,16 +499,13 @@ def terrazzo():
     g.p('chip_density', 'chips.position', min=0.2, max=0.8)
     g.n('cv', 'voronoi', scale=20, jitter=1.0, mode='cell_value', seed=61)
     g.n('cc', 'gradient_map', {'in': 'cv'}, color_0=[0.15, 0.15, 0.15], color_1=[0.55, 0.3, 0.2], color_2=[0.7, 0.7, 0.68], position=0.5)
-    g.p('chip_color_a', 'cc.color_0')
-    g.p('chip_color_b', 'cc.color_1')
-    g.p('chip_color_c', 'cc.color_2')
+    for i, letter in enumerate('abc'):
+        g.p('chip_color_' + letter, 'cc.color_%d' % i)
     g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=62)
     g.n('mc', 'gradient_map', {'in': 'f'}, color_0=[0.72, 0.7, 0.66], color_1=[0.78, 0.76, 0.72], color_2=[0.84, 0.82, 0.78])
     g.p('matrix_color', 'mc.color_1')
-    g.n('alb', 'blend', {'fg': 'cc', 'bg': 'mc', 'mask': 'chips'})
-    g.n('rough', 'levels', {'in': 'chips'}, out_low=0.3, out_high=0.2)
-    g.p('roughness_matrix', 'rough.out_low')
-    g.p('roughness_chips', 'rough.out_high')
+    blend(g, 'alb', 'cc', 'mc', 'chips')
+    rough_range(g, 'chips', 0.3, 0.2, ('roughness_matrix', 'roughness_chips'))
     g.n('h', 'levels', {'in': 'f'}, out_low=0.48, out_high=0.52)
     finish(g, 'h', 'rough', 'alb', 0.005)
 
@@ -409,13 +523,11 @@ def travertine():
     g.p('tile_rows', 't.rows', min=2, max=8)
     g.p('grout_width', 't.gap', min=0.0, max=0.1)
     colors3(g, 'col', 't.sampled', [0.55, 0.45, 0.33], [0.7, 0.6, 0.47], [0.82, 0.75, 0.63], 0.5, 'stone')
-    g.n('pc', 'uniform_color', color=[0.45, 0.37, 0.27])
-    g.n('alb0', 'blend', {'fg': 'pc', 'bg': 'col', 'mask': 'pitm'}, opacity=0.7)
-    g.n('alb', 'blend', {'fg': 't.random', 'bg': 'alb0'}, mode='overlay', opacity=0.2)
+    uniform(g, 'pc', [0.45, 0.37, 0.27])
+    blend(g, 'alb0', 'pc', 'col', 'pitm', opacity=0.7)
+    blend(g, 'alb', 't.random', 'alb0', mode='overlay', opacity=0.2)
     g.n('h0', 'blend', {'fg': 'pitm', 'bg': 't.height'}, mode='subtract', opacity=0.5)
-    g.n('rough', 'levels', {'in': 'band'}, out_low=0.45, out_high=0.6)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
+    rough_range(g, 'band', 0.45, 0.6)
     finish(g, 'h0', 'rough', 'alb', 0.005, shift=(0.125, 0.125))
 
 
@@ -429,44 +541,43 @@ def slate():
     g.p('rows', 't.rows', min=2, max=8)
     g.p('gap', 't.gap', min=0.0, max=0.1)
     g.p('variation', 't.lum_var')
-    g.n('cl', 'blend', {'fg': 't.random', 'bg': 't.sampled'}, mode='overlay', opacity=0.5)
+    blend(g, 'cl', 't.random', 't.sampled', mode='overlay', opacity=0.5)
     colors3(g, 'col', 'cl', [0.06, 0.065, 0.07], [0.16, 0.17, 0.18], [0.3, 0.3, 0.3])
-    g.n('gc', 'uniform_color', color=[0.25, 0.24, 0.23])
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'gc', 'mask': 't.height'})
+    uniform(g, 'gc', [0.25, 0.24, 0.23])
+    blend(g, 'alb', 'col', 'gc', 't.height')
     g.n('h', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.6)
     # roughness: the flag's own (shifted) cleft pattern on the stone, the grout's value in the
     # joints; every flag samples the pattern at another offset, so the mask keeps the change of
     # pattern inside the joint instead of a roughness step along every flag border
-    g.n('rs', 'levels', {'in': 't.sampled'}, out_low=0.5, out_high=0.8)
-    g.p('roughness_min', 'rs.out_low')
-    g.p('roughness_max', 'rs.out_high')
+    rough_range(g, 't.sampled', 0.5, 0.8, id='rs')
     g.n('rg', 'uniform_gray', value=0.9)
     g.p('roughness_grout', 'rg.value')
-    g.n('rough', 'blend', {'fg': 'rs', 'bg': 'rg', 'mask': 't.height'})
+    blend(g, 'rough', 'rs', 'rg', 't.height')
     finish(g, 'h', 'rough', 'alb', 0.01, shift=(0.125, 0.125))
 
 
 slate()
 
 # ---------------------------------------------------------------- concrete / plaster / paint
+def pitted(g, base, scale, seed, position, floor, out):
+    """`base` with pores (the centres of voronoi cells, node 'pm', exposed as pore_amount) subtracted: node `out`."""
+    g.n('p', 'voronoi', scale=scale, jitter=1.0, mode='f1', seed=seed)
+    g.n('pm', 'histogram_scan', {'in': 'p'}, position=position, contrast=0.7)
+    g.p('pore_amount', 'pm.position', min=floor, max=1.0)
+    return blend(g, out, 'pm', base, mode='subtract', opacity=0.5)
+
+
 def cementish(name, cat, desc, c, scale, pores, rough, relief, seed):
     g = G(name, cat, desc)
     g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=7, roughness=0.6, seed=seed)
     g.n('big', 'fbm', scale_x=2, scale_y=2, octaves=3, roughness=0.5, seed=seed + 1)
-    g.n('m', 'blend', {'fg': 'big', 'bg': 'f'}, mode='overlay', opacity=0.6)
-    g.p('stain_amount', 'm.opacity')
-    g.n('p', 'voronoi', scale=pores, jitter=1.0, mode='f1', seed=seed + 2)
-    g.n('pm', 'histogram_scan', {'in': 'p'}, position=0.93, contrast=0.7)
-    g.p('pore_amount', 'pm.position', min=0.85, max=1.0)
-    g.n('mm', 'blend', {'fg': 'pm', 'bg': 'm'}, mode='subtract', opacity=0.5)
+    blend(g, 'm', 'big', 'f', param='stain_amount', mode='overlay', opacity=0.6)
+    pitted(g, 'm', pores, seed + 2, 0.93, 0.85, 'mm')
     g.n('col', 'gradient_map', {'in': 'mm'}, color_0=[x * 0.7 for x in c], color_1=c, color_2=[min(1, x * 1.2) for x in c])
     g.p('base_color', 'col.color_1')
     g.p('dark_color', 'col.color_0')
     g.p('light_color', 'col.color_2')
-    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'mm', 'rough', 'col', relief)
+    finish(g, 'mm', rough_range(g, 'f', *rough), 'col', relief)
 
 
 cementish('concrete_smooth', 'concrete', 'Smooth poured concrete with cloudy stains and small pores.', [0.5, 0.49, 0.47], 6, 40, (0.7, 0.85), 0.004, 91)
@@ -484,32 +595,25 @@ def venetian():
     g.p('stroke_angle', 'st.angle')
     g.n('lv', 'levels', {'in': 'st'}, in_low=0.2, in_high=0.8)
     colors3(g, 'col', 'lv', [0.6, 0.53, 0.44], [0.69, 0.62, 0.52], [0.77, 0.71, 0.61])
-    g.n('rough', 'levels', {'in': 'lv'}, out_low=0.2, out_high=0.35)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'lv', 'rough', 'col', 0.001)
+    finish(g, 'lv', rough_range(g, 'lv', 0.2, 0.35), 'col', 0.001)
 
 
 venetian()
 
 
-def paint(name, desc, col, scale, rough, relief, seed):
-    g = G(name, 'paint', desc)
+def tinted_fbm(name, category, desc, col, color_param, shade, scale, rough, relief, seed):
+    """A uniform colour faintly shaded by fbm, the fbm also in roughness and relief (paints, plastics)."""
+    g = G(name, category, desc)
     g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=4, roughness=0.5, seed=seed)
-    g.n('c', 'uniform_color', color=col)
-    g.p('paint_color', 'c.color')
-    g.n('sh', 'levels', {'in': 'f'}, out_low=0.96, out_high=1.0)
-    g.p('color_variation', 'sh.out_low', min=0.8, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'f', 'rough', 'alb', relief)
+    tinted(g, 'c', col, color_param, 'f', shade, 'color_variation', 0.8)
+    finish(g, 'f', rough_range(g, 'f', *rough), 'alb', relief)
 
 
-paint('paint_matte_wall', 'Matte painted wall (roller texture).', [0.75, 0.73, 0.68], 48, (0.8, 0.9), 0.004, 121)
-paint('paint_eggshell', 'Eggshell paint, slight sheen, colored.', [0.45, 0.55, 0.62], 64, (0.4, 0.5), 0.002, 123)
-paint('paint_glossy', 'Glossy enamel paint (doors, trim).', [0.9, 0.9, 0.88], 8, (0.08, 0.12), 0.001, 125)
+for name, desc, col, scale, rough, relief, seed in [
+        ('paint_matte_wall', 'Matte painted wall (roller texture).', [0.75, 0.73, 0.68], 48, (0.8, 0.9), 0.004, 121),
+        ('paint_eggshell', 'Eggshell paint, slight sheen, colored.', [0.45, 0.55, 0.62], 64, (0.4, 0.5), 0.002, 123),
+        ('paint_glossy', 'Glossy enamel paint (doors, trim).', [0.9, 0.9, 0.88], 8, (0.08, 0.12), 0.001, 125)]:
+    tinted_fbm(name, 'paint', desc, col, 'paint_color', 0.96, scale, rough, relief, seed)
 
 
 def textured_wall():
@@ -520,42 +624,33 @@ def textured_wall():
     g.n('hs', 'histogram_scan', {'in': 'm'}, position=0.45, contrast=0.6)
     g.p('blob_coverage', 'hs.position', min=0.2, max=0.8)
     g.p('blob_sharpness', 'hs.contrast', min=0.0, max=0.9)
-    g.n('c', 'uniform_color', color=[0.8, 0.77, 0.7])
-    g.p('paint_color', 'c.color')
-    g.n('sh', 'levels', {'in': 'hs'}, out_low=0.92, out_high=1.0)
-    g.p('shade', 'sh.out_low', min=0.7, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'hs'}, out_low=0.85, out_high=0.7)
-    g.p('roughness_low', 'rough.out_low')
-    g.p('roughness_high', 'rough.out_high')
+    tinted(g, 'c', [0.8, 0.77, 0.7], 'paint_color', 'hs', 0.92, 'shade', 0.7)
+    rough_range(g, 'hs', 0.85, 0.7, ('roughness_low', 'roughness_high'))
     finish(g, 'hs', 'rough', 'alb', 0.004)
 
 
 textured_wall()
 
 # ---------------------------------------------------------------- wallpaper
+def paper_texture(g, base, seed, opacity, param='paper_texture'):
+    """Fine paper fbm (node 'paper') overlaid on `base`, its opacity exposed as `param` when given: node 'alb'."""
+    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=seed)
+    return blend(g, 'alb', 'paper', base, param=param, mode='overlay', opacity=opacity)
+
+
 def wallpaper_stripes():
     g = G('wallpaper_stripes', 'wallpaper', 'Striped wallpaper: two-tone vertical stripes with a pinstripe, paper texture.')
-    g.n('s', 'stripes', count=8, direction='u', width=0.5, softness=0.01)
-    g.n('pin', 'stripes', count=8, direction='u', width=0.04, softness=0.01)
+    for id, width in (('s', 0.5), ('pin', 0.04)):
+        g.n(id, 'stripes', count=8, direction='u', width=width, softness=0.01)
     g.p('stripe_count', 's.count', min=2, max=24)
     g.p('stripe_width', 's.width', min=0.1, max=0.9)
     g.p('stripe_count_pin', 'pin.count', min=2, max=24)
-    g.n('ca', 'uniform_color', color=[0.72, 0.66, 0.5])
-    g.n('cb', 'uniform_color', color=[0.55, 0.48, 0.32])
-    g.n('cp', 'uniform_color', color=[0.45, 0.22, 0.15])
-    g.p('color_a', 'ca.color')
-    g.p('color_b', 'cb.color')
-    g.p('pin_color', 'cp.color')
-    g.n('m1', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 's'})
+    palette(g, ([0.72, 0.66, 0.5], [0.55, 0.48, 0.32], [0.45, 0.22, 0.15]), ('color_a', 'color_b', 'pin_color'), ('ca', 'cb', 'cp'))
+    blend(g, 'm1', 'ca', 'cb', 's')
     g.n('pin2', 'transform', {'in': 'pin'}, offset_u=0.0625)
-    g.n('m2', 'blend', {'fg': 'cp', 'bg': 'm1', 'mask': 'pin2'})
-    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=141)
-    g.n('alb', 'blend', {'fg': 'paper', 'bg': 'm2'}, mode='overlay', opacity=0.15)
-    g.p('paper_texture', 'alb.opacity')
-    g.n('rough', 'levels', {'in': 's'}, out_low=0.75, out_high=0.6)
-    g.p('roughness_a', 'rough.out_high')
-    g.p('roughness_b', 'rough.out_low')
+    blend(g, 'm2', 'cp', 'm1', 'pin2')
+    paper_texture(g, 'm2', 141, 0.15)
+    rough_falling(g, 's', 0.75, 0.6, ('roughness_a', 'roughness_b'))
     finish(g, 'paper', 'rough', 'alb', 0.002)
 
 
@@ -576,16 +671,9 @@ def wallpaper_damask():
     g.p('ornament_size', 'b1.size', min=0.5, max=1.0)
     g.p('ornament_detail', 'rw.intensity', min=0.0, max=0.02)
     g.p('ornament_amount', 'ornament.position', min=0.1, max=0.6)
-    g.n('ca', 'uniform_color', color=[0.35, 0.08, 0.1])
-    g.n('cb', 'uniform_color', color=[0.5, 0.15, 0.15])
-    g.p('ground_color', 'ca.color')
-    g.p('ornament_color', 'cb.color')
-    g.n('m', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'ornament'})
-    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=152)
-    g.n('alb', 'blend', {'fg': 'paper', 'bg': 'm'}, mode='overlay', opacity=0.1)
-    g.n('rough', 'levels', {'in': 'ornament'}, out_low=0.8, out_high=0.45)
-    g.p('roughness_ground', 'rough.out_low')
-    g.p('roughness_ornament', 'rough.out_high')
+    two_tone(g, 'm', 'ornament', ([0.35, 0.08, 0.1], [0.5, 0.15, 0.15]), ('ground_color', 'ornament_color'))
+    paper_texture(g, 'm', 152, 0.1, param=None)
+    rough_range(g, 'ornament', 0.8, 0.45, ('roughness_ground', 'roughness_ornament'))
     finish(g, 'ornament', 'rough', 'alb', 0.003, shift=(1 / 16, 1 / 16))
 
 
@@ -596,13 +684,9 @@ def wallpaper_grasscloth():
     g = G('wallpaper_grasscloth', 'wallpaper', 'Grasscloth wallpaper: horizontal natural fibers.')
     g.n('f', 'fbm', scale_x=2, scale_y=128, octaves=3, roughness=0.6, seed=161)
     g.n('f2', 'fbm', scale_x=8, scale_y=32, octaves=3, roughness=0.5, seed=162)
-    g.n('m', 'blend', {'fg': 'f2', 'bg': 'f'}, mode='overlay', opacity=0.5)
-    g.p('fiber_mix', 'm.opacity')
+    blend(g, 'm', 'f2', 'f', param='fiber_mix', mode='overlay', opacity=0.5)
     colors3(g, 'col', 'm', [0.35, 0.3, 0.2], [0.55, 0.48, 0.34], [0.7, 0.64, 0.5])
-    g.n('rough', 'levels', {'in': 'm'}, out_low=0.85, out_high=0.7)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'm', 'rough', 'col', 0.004)
+    finish(g, 'm', rough_falling(g, 'm', 0.85, 0.7), 'col', 0.004)
 
 
 wallpaper_grasscloth()
@@ -616,19 +700,14 @@ def brick(name, desc, col, mortar, rows, cols, seed):
     g.p('mortar_width', 't.gap', min=0.02, max=0.3)
     g.p('edge_wear', 't.bevel', min=0.02, max=0.3)
     g.p('brick_variation', 't.lum_var')
-    g.n('m', 'blend', {'fg': 't.sampled', 'bg': 't.random'}, mode='overlay', opacity=0.5)
-    g.p('brick_texture', 'm.opacity')
+    blend(g, 'm', 't.sampled', 't.random', param='brick_texture', mode='overlay', opacity=0.5)
     colors3(g, 'col', 'm', [c * 0.5 for c in col], col, [min(1, c * 1.3) for c in col], 0.5, 'brick')
-    g.n('mc', 'uniform_color', color=mortar)
-    g.p('mortar_color', 'mc.color')
+    uniform(g, 'mc', mortar, 'mortar_color')
     g.n('edge', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.4)
     g.n('mask', 'histogram_scan', {'in': 'edge'}, position=0.6, contrast=0.7)
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'mc', 'mask': 'mask'})
+    blend(g, 'alb', 'col', 'mc', 'mask')
     g.n('h', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.3)
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.75, out_high=0.95)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.008)
+    finish(g, 'h', rough_range(g, 'f', 0.75, 0.95), 'alb', 0.008)
 
 
 brick('brick_red', 'Red clay brick wall, running bond, grey mortar.', [0.4, 0.14, 0.08], [0.55, 0.53, 0.5], 12, 4, 171)
@@ -636,29 +715,17 @@ brick('brick_white_painted', 'Painted white brick wall.', [0.78, 0.77, 0.74], [0
 brick('brick_yellow', 'Yellow / buff London stock brick, dark mortar.', [0.55, 0.42, 0.25], [0.3, 0.29, 0.27], 14, 4, 175)
 
 # ---------------------------------------------------------------- fabric / carpet / leather
-def fabric(name, desc, pattern, count, col, width, fuzz, seed, cat='fabric', rough=(0.85, 0.95), shift=None):
+def fabric(name, desc, pattern, count, col, width, fuzziness, seed, cat='fabric', rough=(0.85, 0.95), shift=None):
     g = G(name, cat, desc)
     g.n('w', 'weave', count=count, pattern=pattern, width=width, seed=seed)
     g.p('thread_count', 'w.count', min=max(4, count // 2), max=count * 2)
     g.p('thread_width', 'w.width', min=0.5, max=1.0)
-    g.n('fz', 'fbm', scale_x=count * 2, scale_y=count * 2, octaves=2, roughness=0.5, seed=seed + 1)
-    g.n('hf', 'blend', {'fg': 'fz', 'bg': 'w.height'}, mode='overlay', opacity=fuzz)
-    g.p('fuzz', 'hf.opacity')
-    g.n('tv', 'blend', {'fg': 'w.random', 'bg': 'hf'}, mode='overlay', opacity=0.3)
-    g.p('thread_variation', 'tv.opacity')
-    g.n('wc', 'uniform_color', color=col)
-    g.n('fc', 'uniform_color', color=[c * 0.85 for c in col])
-    g.p('warp_color', 'wc.color')
-    g.p('weft_color', 'fc.color')
-    g.n('cm', 'blend', {'fg': 'wc', 'bg': 'fc', 'mask': 'w.warp'})
-    g.n('sh', 'levels', {'in': 'tv'}, out_low=0.45, out_high=1.0)
-    g.p('shadowing', 'sh.out_low', min=0.1, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'cm'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'hf'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
+    fuzz(g, 'w.height', count * 2, fuzziness, seed + 1)
+    blend(g, 'tv', 'w.random', 'hf', param='thread_variation', mode='overlay', opacity=0.3)
+    warp_weft_colors(g, col, [c * 0.85 for c in col], 'w.warp', ids=('wc', 'fc'))
+    shaded(g, 'cm', 'tv', 0.45, 'shadowing', 0.1)
     # shift: half a thread, so the border runs along thread centres, not between threads
-    finish(g, 'hf', 'rough', 'alb', 0.002, shift=(0.5 / count, 0.5 / count) if shift else None)
+    finish(g, 'hf', rough_range(g, 'hf', *rough), 'alb', 0.002, shift=(0.5 / count, 0.5 / count) if shift else None)
 
 
 fabric('fabric_plain_weave', 'Plain-weave cotton / linen upholstery.', 'plain', 64, [0.55, 0.5, 0.42], 0.85, 0.3, 181)
@@ -667,31 +734,21 @@ fabric('fabric_basket', 'Basket-weave upholstery (panama), coarse.', 'basket_2_2
 fabric('fabric_linen', 'Loose linen with slubby, irregular threads.', 'plain', 48, [0.68, 0.64, 0.56], 0.7, 0.6, 187)
 
 
-def knit():
-    g = G('fabric_knit', 'fabric', 'Knitted fabric: columns of V-shaped stitches.')
-    g.n('sh', 'shape', count=24, shape='bell', size=1.0)
-    g.n('zig', 'stripes', count=24, direction='diagonal', width=0.5, softness=0.3)
-    g.n('zig2', 'stripes', count=24, direction='antidiagonal', width=0.5, softness=0.3)
-    g.n('col', 'gradient_linear', direction='u', repeats=24, shape='saw')
-    g.n('vv', 'blend', {'fg': 'zig', 'bg': 'zig2', 'mask': 'col'})
-    g.n('st', 'blend', {'fg': 'sh', 'bg': 'vv'}, mode='multiply', opacity=0.5)
-    g.p('stitch_roundness', 'st.opacity')
+def knit(name, desc, count, col, seed, fuzz_scale, shadow, relief, shift=None):
+    """Knitted fabric: columns of V-shaped stitches (bell-shaped loops over alternating diagonals)."""
+    g = G(name, 'fabric', desc)
+    g.n('sh', 'shape', count=count, shape='bell', size=1.0)
+    diagonals(g, ('zig', 'zig2'), count, 0.5, 0.3)
+    g.n('col', 'gradient_linear', direction='u', repeats=count, shape='saw')
+    blend(g, 'vv', 'zig', 'zig2', 'col')
+    blend(g, 'st', 'sh', 'vv', param='stitch_roundness', mode='multiply', opacity=0.5)
     g.p('stitch_softness', 'zig.softness', min=0.05, max=0.5)
-    g.n('fz', 'fbm', scale_x=64, scale_y=64, octaves=2, roughness=0.5, seed=191)
-    g.n('h', 'blend', {'fg': 'fz', 'bg': 'st'}, mode='overlay', opacity=0.3)
-    g.p('fuzz', 'h.opacity')
-    g.n('c', 'uniform_color', color=[0.5, 0.12, 0.1])
-    g.p('yarn_color', 'c.color')
-    g.n('s', 'levels', {'in': 'h'}, out_low=0.4, out_high=1.0)
-    g.p('shadowing', 's.out_low', min=0.1, max=1.0)
-    g.n('alb', 'blend', {'fg': 's', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'h'}, out_low=0.95, out_high=0.85)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'h', 'rough', 'alb', 0.003)
+    fuzz(g, 'st', fuzz_scale, 0.3, seed, id='h')
+    tinted(g, 'c', col, 'yarn_color', 'h', shadow, 'shadowing', 0.1, sh='s')
+    finish(g, 'h', rough_falling(g, 'h', 0.95, 0.85), 'alb', relief, shift=shift)
 
 
-knit()
+knit('fabric_knit', 'Knitted fabric: columns of V-shaped stitches.', 24, [0.5, 0.12, 0.1], 191, 64, 0.4, 0.003)
 
 
 def velvet():
@@ -701,15 +758,21 @@ def velvet():
     g.n('dirb', 'directional_blur', {'in': 'f'}, length=0.05, angle=0.2, taps=8)
     g.p('crush_direction', 'dirb.angle')
     g.p('crush_length', 'dirb.length', min=0.0, max=0.15)
-    g.n('m', 'blend', {'fg': 'pile', 'bg': 'dirb'}, mode='overlay', opacity=0.3)
+    blend(g, 'm', 'pile', 'dirb', mode='overlay', opacity=0.3)
     colors3(g, 'col', 'm', [0.13, 0.035, 0.045], [0.18, 0.05, 0.062], [0.25, 0.078, 0.092])
-    g.n('rough', 'levels', {'in': 'm'}, out_low=0.7, out_high=0.9)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'm', 'rough', 'col', 0.003)
+    finish(g, 'm', rough_range(g, 'm', 0.7, 0.9), 'col', 0.003)
 
 
 velvet()
+
+
+def pile(g, seed, scale=256, exposed=True):
+    """Cut pile: slightly blurred white noise (node 'pb'), the tufts' softness exposed if `exposed`."""
+    g.n('pn', 'white_noise', scale=scale, seed=seed)
+    g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
+    if exposed:
+        g.p('tuft_softness', 'pb.sigma', min=0.0005, max=0.005)
+    return 'pb'
 
 
 def carpet(name, desc, col, scale, loop, seed):
@@ -720,51 +783,43 @@ def carpet(name, desc, col, scale, loop, seed):
         g.n('p', 'blend', {'fg': 'o', 'bg': 's', 'mask': 'rowm'})
         g.n('rowm', 'stripes', count=scale // 2, direction='v', width=0.5, softness=0.01)
         g.p('loop_size', 's.size', min=0.5, max=1.0)
-        pile = 'p'
+        tufts = 'p'
     else:
-        g.n('pn', 'white_noise', scale=scale * 4, seed=seed)
-        g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
-        g.p('tuft_softness', 'pb.sigma', min=0.0005, max=0.005)
-        pile = 'pb'
+        tufts = pile(g, seed, scale * 4)
     g.n('f', 'fbm', scale_x=4, scale_y=4, octaves=4, roughness=0.5, seed=seed + 1)
-    g.n('m', 'blend', {'fg': 'f', 'bg': pile}, mode='overlay', opacity=0.5)
-    g.p('mottling', 'm.opacity')
+    blend(g, 'm', 'f', tufts, param='mottling', mode='overlay', opacity=0.5)
     g.n('c', 'gradient_map', {'in': 'm'}, color_0=[c * 0.5 for c in col], color_1=col, color_2=[min(1, c * 1.4) for c in col])
     g.p('pile_color', 'c.color_1')
     g.p('pile_shadow', 'c.color_0')
     g.p('pile_tip', 'c.color_2')
-    g.n('rough', 'levels', {'in': 'm'}, out_low=0.9, out_high=1.0)
-    g.p('roughness_min', 'rough.out_low')
-    finish(g, 'm', 'rough', 'c', 0.004)
+    finish(g, 'm', rough_range(g, 'm', 0.9, 1.0, ('roughness_min',)), 'c', 0.004)
 
 
 carpet('carpet_loop_pile', 'Berber-like loop pile carpet in rows.', [0.45, 0.4, 0.33], 48, True, 211)
 carpet('carpet_cut_pile', 'Cut pile (plush) carpet, fine speckle.', [0.3, 0.32, 0.38], 64, False, 213)
 
 
+def rug_pile(g, design, seed, opacity, disorder=True, exposed=True, **finish_kw):
+    """Finishes a rug: the `design` on cut pile (warped by the tufts if `disorder`), the pile's texture
+    overlaid, matte; `exposed`: the tufts' softness and the roughness exposed (the first rug has neither)."""
+    p = pile(g, seed, exposed=exposed)
+    if disorder:
+        g.n('wr', 'warp', {'in': design, 'height': p}, intensity=0.0005)
+        g.p('pile_disorder', 'wr.intensity', min=0.0, max=0.002)
+        design = 'wr'
+    blend(g, 'alb', p, design, param='pile_texture', mode='overlay', opacity=opacity)
+    finish(g, p, rough_range(g, p, 0.9, 1.0, ('roughness_min',) if exposed else ()), 'alb', 0.003, **finish_kw)
+
+
 def rug():
     g = G('carpet_patterned_rug', 'carpet', 'Patterned rug: bordered diamonds over cut pile.')
     g.n('d', 'checker', count=8, softness=0.02)
-    g.n('dr', 'stripes', count=8, direction='diagonal', width=0.3, softness=0.05)
-    g.n('dr2', 'stripes', count=8, direction='antidiagonal', width=0.3, softness=0.05)
+    diagonals(g, ('dr', 'dr2'), 8, 0.3, 0.05)
     g.n('dd', 'blend', {'fg': 'dr', 'bg': 'dr2'}, mode='max')
     g.p('motif_line_width', 'dr.width', min=0.1, max=0.6)
-    g.n('ca', 'uniform_color', color=[0.45, 0.08, 0.06])
-    g.n('cb', 'uniform_color', color=[0.08, 0.1, 0.25])
-    g.n('cc', 'uniform_color', color=[0.75, 0.65, 0.45])
-    g.p('field_color', 'ca.color')
-    g.p('motif_color', 'cb.color')
-    g.p('line_color', 'cc.color')
-    g.n('m1', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'd'})
-    g.n('m2', 'blend', {'fg': 'cc', 'bg': 'm1', 'mask': 'dd'})
-    g.n('pn', 'white_noise', scale=256, seed=221)
-    g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
-    g.n('wr', 'warp', {'in': 'm2', 'height': 'pb'}, intensity=0.0005)
-    g.p('pile_disorder', 'wr.intensity', min=0.0, max=0.002)
-    g.n('alb', 'blend', {'fg': 'pb', 'bg': 'wr'}, mode='overlay', opacity=0.3)
-    g.p('pile_texture', 'alb.opacity')
-    g.n('rough', 'levels', {'in': 'pb'}, out_low=0.9, out_high=1.0)
-    finish(g, 'pb', 'rough', 'alb', 0.003)
+    three_tone(g, ([0.45, 0.08, 0.06], [0.08, 0.1, 0.25], [0.75, 0.65, 0.45]), ('field_color', 'motif_color', 'line_color'),
+               ('d', 'dd'))
+    rug_pile(g, 'm2', 221, 0.3, exposed=False)
 
 
 rug()
@@ -776,12 +831,9 @@ def leather(name, desc, col, scale, rough, seed):
     g.n('cr', 'histogram_scan', {'in': 'v'}, position=0.8, contrast=0.6)
     g.p('crease_width', 'cr.position', min=0.5, max=0.98)
     g.n('f', 'fbm', scale_x=4, scale_y=4, octaves=5, roughness=0.55, seed=seed + 1)
-    g.n('m', 'blend', {'fg': 'f', 'bg': 'cr'}, mode='overlay', opacity=0.4)
-    g.p('wear', 'm.opacity')
+    blend(g, 'm', 'f', 'cr', param='wear', mode='overlay', opacity=0.4)
     colors3(g, 'col', 'm', [c * 0.5 for c in col], col, [min(1, c * 1.3) for c in col], 0.5, 'leather')
-    g.n('rough', 'levels', {'in': 'cr'}, out_low=rough[1], out_high=rough[0])
-    g.p('roughness_grain', 'rough.out_low')
-    g.p('roughness_top', 'rough.out_high')
+    rough_range(g, 'cr', rough[1], rough[0], ('roughness_grain', 'roughness_top'))
     finish(g, 'cr', 'rough', 'col', 0.004)
 
 
@@ -796,12 +848,8 @@ def brushed_metal():
     g.p('streak_length', 'b.length', min=0.0, max=0.15)
     g.n('lv', 'levels', {'in': 'b'}, in_low=0.2, in_high=0.8)
     colors3(g, 'col', 'lv', [0.5, 0.5, 0.52], [0.62, 0.62, 0.64], [0.72, 0.72, 0.74], 0.5, 'metal')
-    g.n('rough', 'levels', {'in': 'lv'}, out_low=0.25, out_high=0.4)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    g.n('metal', 'uniform_gray', value=1.0)
-    g.p('metallic', 'metal.value')
-    finish(g, 'lv', 'rough', 'col', 0.0005, metallic='metal')
+    rough_range(g, 'lv', 0.25, 0.4)
+    finish(g, 'lv', 'rough', 'col', 0.0005, metallic=fully_metallic(g))
 
 
 brushed_metal()
@@ -813,41 +861,20 @@ def painted_metal():
     g.n('ch', 'fbm', scale_x=6, scale_y=6, octaves=6, roughness=0.6, seed=252)
     g.n('chips', 'histogram_scan', {'in': 'ch'}, position=0.1, contrast=0.9)
     g.p('chipping', 'chips.position', min=0.0, max=0.4)
-    g.n('paint', 'uniform_color', color=[0.1, 0.25, 0.2])
-    g.p('paint_color', 'paint.color')
-    g.n('bare', 'uniform_color', color=[0.6, 0.6, 0.62])
-    g.p('metal_color', 'bare.color')
-    g.n('alb', 'blend', {'fg': 'bare', 'bg': 'paint', 'mask': 'chips'})
+    two_tone(g, 'alb', 'chips', ([0.1, 0.25, 0.2], [0.6, 0.6, 0.62]), ('paint_color', 'metal_color'), ('paint', 'bare'))
     g.n('inv', 'invert', {'in': 'chips'})
     g.n('h', 'blend', {'fg': 'op', 'bg': 'inv'}, mode='multiply', opacity=0.1)
-    g.n('rough', 'levels', {'in': 'chips'}, out_low=0.35, out_high=0.5)
-    g.p('roughness_paint', 'rough.out_low')
-    g.p('roughness_bare', 'rough.out_high')
-    g.n('metal', 'levels', {'in': 'chips'}, out_low=0.0, out_high=0.9)
-    g.p('bare_metallic', 'metal.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.003, metallic='metal')
+    rough_range(g, 'chips', 0.35, 0.5, ('roughness_paint', 'roughness_bare'))
+    finish(g, 'h', 'rough', 'alb', 0.003, metallic=metallic_where(g, 'chips', 0.9, 'bare_metallic'))
 
 
 painted_metal()
 
-
-def plastic(name, desc, col, rough, bump, scale, seed):
-    g = G(name, 'plastic', desc)
-    g.n('f', 'fbm', scale_x=scale, scale_y=scale, octaves=4, roughness=0.5, seed=seed)
-    g.n('c', 'uniform_color', color=col)
-    g.p('color', 'c.color')
-    g.n('sh', 'levels', {'in': 'f'}, out_low=0.97, out_high=1.0)
-    g.p('color_variation', 'sh.out_low', min=0.8, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'f'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'f', 'rough', 'alb', bump)
-
-
-plastic('plastic_glossy', 'Glossy molded plastic (appliances, furniture).', [0.8, 0.8, 0.78], (0.05, 0.1), 0.0005, 8, 261)
-plastic('plastic_textured', 'Textured (sand-blasted) matte plastic.', [0.15, 0.15, 0.16], (0.5, 0.65), 0.006, 96, 263)
-plastic('plastic_laminate', 'Colored laminate worktop with fine speckle.', [0.55, 0.2, 0.15], (0.25, 0.35), 0.002, 128, 265)
+for name, desc, col, rough, relief, scale, seed in [
+        ('plastic_glossy', 'Glossy molded plastic (appliances, furniture).', [0.8, 0.8, 0.78], (0.05, 0.1), 0.0005, 8, 261),
+        ('plastic_textured', 'Textured (sand-blasted) matte plastic.', [0.15, 0.15, 0.16], (0.5, 0.65), 0.006, 96, 263),
+        ('plastic_laminate', 'Colored laminate worktop with fine speckle.', [0.55, 0.2, 0.15], (0.25, 0.35), 0.002, 128, 265)]:
+    tinted_fbm(name, 'plastic', desc, col, 'color', 0.97, scale, rough, relief, seed)
 
 
 def cork():
@@ -857,14 +884,10 @@ def cork():
     g.n('ed', 'histogram_scan', {'in': 'e'}, position=0.85, contrast=0.6)
     g.p('granule_gaps', 'ed.position', min=0.6, max=1.0)
     g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=272)
-    g.n('m', 'blend', {'fg': 'f', 'bg': 'v'}, mode='overlay', opacity=0.5)
-    g.n('m2', 'blend', {'fg': 'ed', 'bg': 'm'}, mode='multiply', opacity=0.6)
-    g.p('gap_darkness', 'm2.opacity')
+    blend(g, 'm', 'f', 'v', mode='overlay', opacity=0.5)
+    blend(g, 'm2', 'ed', 'm', param='gap_darkness', mode='multiply', opacity=0.6)
     colors3(g, 'col', 'm2', [0.2, 0.12, 0.06], [0.45, 0.3, 0.17], [0.62, 0.45, 0.28])
-    g.n('rough', 'levels', {'in': 'm'}, out_low=0.8, out_high=0.9)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'm2', 'rough', 'col', 0.005)
+    finish(g, 'm2', rough_range(g, 'm', 0.8, 0.9), 'col', 0.005)
 
 
 cork()
@@ -878,13 +901,8 @@ def rubber():
     g.p('stud_edge', 's.softness', min=0.02, max=0.3)
     g.n('f', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=281)
     g.n('h', 'blend', {'fg': 'f', 'bg': 's'}, mode='add', opacity=0.03)
-    g.n('c', 'uniform_color', color=[0.08, 0.08, 0.085])
-    g.p('rubber_color', 'c.color')
-    g.n('sh', 'levels', {'in': 'f'}, out_low=0.85, out_high=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 's'}, out_low=0.8, out_high=0.6)
-    g.p('roughness_base', 'rough.out_low')
-    g.p('roughness_stud', 'rough.out_high')
+    tinted(g, 'c', [0.08, 0.08, 0.085], 'rubber_color', 'f', 0.85)
+    rough_range(g, 's', 0.8, 0.6, ('roughness_base', 'roughness_stud'))
     finish(g, 'h', 'rough', 'alb', 0.01)
 
 
@@ -896,16 +914,9 @@ def rubber_plain():
     g.n('f', 'white_noise', scale=512, seed=291)
     g.n('fl', 'histogram_scan', {'in': 'f'}, position=0.06, contrast=0.95)
     g.p('fleck_amount', 'fl.position', min=0.0, max=0.3)
-    g.n('c', 'uniform_color', color=[0.35, 0.38, 0.33])
-    g.n('fc', 'uniform_color', color=[0.75, 0.75, 0.72])
-    g.p('base_color', 'c.color')
-    g.p('fleck_color', 'fc.color')
-    g.n('alb', 'blend', {'fg': 'fc', 'bg': 'c', 'mask': 'fl'})
+    two_tone(g, 'alb', 'fl', ([0.35, 0.38, 0.33], [0.75, 0.75, 0.72]), ('base_color', 'fleck_color'), ('c', 'fc'))
     g.n('b', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=292)
-    g.n('rough', 'levels', {'in': 'b'}, out_low=0.55, out_high=0.7)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'b', 'rough', 'alb', 0.002, shift=(1 / 1024, 1 / 1024), snap=False)
+    finish(g, 'b', rough_range(g, 'b', 0.55, 0.7), 'alb', 0.002, shift=(1 / 1024, 1 / 1024), snap=False)
 
 
 rubber_plain()
@@ -914,21 +925,14 @@ rubber_plain()
 def paper(name, desc, col, fibers, seed, corrugated=False):
     g = G(name, 'paper', desc)
     g.n('f', 'fbm', scale_x=fibers, scale_y=fibers, octaves=5, roughness=0.6, seed=seed)
-    g.n('c', 'uniform_color', color=col)
-    g.p('paper_color', 'c.color')
-    g.n('sh', 'levels', {'in': 'f'}, out_low=0.9, out_high=1.0)
-    g.p('mottling', 'sh.out_low', min=0.6, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    tinted(g, 'c', col, 'paper_color', 'f', 0.9, 'mottling', 0.6)
     h = 'f'
     if corrugated:
         g.n('rib', 'stripes', count=24, direction='v', width=0.5, softness=0.4)
         g.n('hh', 'blend', {'fg': 'f', 'bg': 'rib'}, mode='multiply', opacity=0.2)
         g.p('rib_count', 'rib.count', min=8, max=64)
         h = 'hh'
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.8, out_high=0.95)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, h, 'rough', 'alb', 0.002, shift=(0, 1 / 96) if corrugated else None)
+    finish(g, h, rough_range(g, 'f', 0.8, 0.95), 'alb', 0.002, shift=(0, 1 / 96) if corrugated else None)
 
 
 paper('paper_white', 'White paper / card with fiber mottling.', [0.82, 0.81, 0.78], 32, 301)
@@ -962,37 +966,22 @@ def yarn_dyed(name, desc, weave, threads, stripe_count, colors, width=0.5, pin=N
     g = G(name, 'fabric', desc)
     g.n('w', 'weave', count=threads, pattern=weave, width=0.9, seed=seed)
     g.p('thread_width', 'w.width', min=0.6, max=1.0)
-    g.n('fz', 'fbm', scale_x=min(256, threads * 2), scale_y=min(256, threads * 2), octaves=2, roughness=0.5, seed=seed + 1)
-    g.n('hf', 'blend', {'fg': 'fz', 'bg': 'w.height'}, mode='overlay', opacity=0.25)
-    g.p('fuzz', 'hf.opacity')
-    g.n('su', 'stripes', count=stripe_count, direction='u', width=width, softness=0.002)
-    g.n('sv', 'stripes', count=stripe_count, direction='v', width=width, softness=0.002)
+    fuzz(g, 'w.height', min(256, threads * 2), 0.25, seed + 1)
+    for direction in 'uv':
+        g.n('s' + direction, 'stripes', count=stripe_count, direction=direction, width=width, softness=0.002)
     g.p('stripe_width', 'su.width', 'sv.width', min=min(0.2, width), max=0.8)
-    g.n('ca', 'uniform_color', color=colors[0])
-    g.n('cb', 'uniform_color', color=colors[1])
-    g.p('ground_color', 'ca.color')
-    g.p('stripe_color', 'cb.color')
-    g.n('cu', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'su'})
-    g.n('cv', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'sv'})
+    two_tone(g, 'cu', 'su', colors[:2], ('ground_color', 'stripe_color'))
+    blend(g, 'cv', 'cb', 'ca', 'sv')
+    cu, cv = 'cu', 'cv'
     if pin is not None:  # a second, narrow stripe (tartan over-check)
-        g.n('pu', 'stripes', count=pin[0], direction='u', width=pin[1], softness=0.002)
-        g.n('pv', 'stripes', count=pin[0], direction='v', width=pin[1], softness=0.002)
+        for direction in 'uv':
+            g.n('p' + direction, 'stripes', count=pin[0], direction=direction, width=pin[1], softness=0.002)
         g.p('overcheck_width', 'pu.width', 'pv.width', min=0.05, max=0.4)
-        g.n('cp', 'uniform_color', color=colors[2])
-        g.p('overcheck_color', 'cp.color')
-        g.n('cu2', 'blend', {'fg': 'cp', 'bg': 'cu', 'mask': 'pu'})
-        g.n('cv2', 'blend', {'fg': 'cp', 'bg': 'cv', 'mask': 'pv'})
-        cu, cv = 'cu2', 'cv2'
-    else:
-        cu, cv = 'cu', 'cv'
-    g.n('cm', 'blend', {'fg': cu, 'bg': cv, 'mask': 'w.warp'})
-    g.n('sh', 'levels', {'in': 'hf'}, out_low=0.55, out_high=1.0)
-    g.p('shadowing', 'sh.out_low', min=0.2, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'cm'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'hf'}, out_low=rough[0], out_high=rough[1])
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'hf', 'rough', 'alb', 0.002)
+        uniform(g, 'cp', colors[2], 'overcheck_color')
+        cu, cv = blend(g, 'cu2', 'cp', 'cu', 'pu'), blend(g, 'cv2', 'cp', 'cv', 'pv')
+    blend(g, 'cm', cu, cv, 'w.warp')
+    shaded(g, 'cm', 'hf', 0.55, 'shadowing', 0.2)
+    finish(g, 'hf', rough_range(g, 'hf', *rough), 'alb', 0.002)
 
 
 yarn_dyed('fabric_gingham', 'Gingham: plain-weave cotton, white and one colour in equal checks (mixed tone where they cross).',
@@ -1014,23 +1003,12 @@ def fabric_herringbone():
     g.n('h2', 'transform', {'in': 'w.height'}, rotation='90')
     g.n('m2', 'transform', {'in': 'w.warp'}, rotation='90')
     g.n('band', 'stripes', count=8, direction='u', width=0.5, softness=0.002)
-    g.n('h', 'blend', {'fg': 'h2', 'bg': 'w.height', 'mask': 'band'})
-    g.n('m', 'blend', {'fg': 'm2', 'bg': 'w.warp', 'mask': 'band'})
-    g.n('fz', 'fbm', scale_x=192, scale_y=192, octaves=2, roughness=0.5, seed=412)
-    g.n('hf', 'blend', {'fg': 'fz', 'bg': 'h'}, mode='overlay', opacity=0.3)
-    g.p('fuzz', 'hf.opacity')
-    g.n('ca', 'uniform_color', color=[0.12, 0.11, 0.1])
-    g.n('cb', 'uniform_color', color=[0.45, 0.42, 0.37])
-    g.p('warp_color', 'ca.color')
-    g.p('weft_color', 'cb.color')
-    g.n('cm', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 'm'})
-    g.n('sh', 'levels', {'in': 'hf'}, out_low=0.5, out_high=1.0)
-    g.p('shadowing', 'sh.out_low', min=0.2, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'cm'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'hf'}, out_low=0.85, out_high=0.95)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'hf', 'rough', 'alb', 0.002)
+    blend(g, 'h', 'h2', 'w.height', 'band')
+    blend(g, 'm', 'm2', 'w.warp', 'band')
+    fuzz(g, 'h', 192, 0.3, 412)
+    warp_weft_colors(g, [0.12, 0.11, 0.1], [0.45, 0.42, 0.37], 'm')
+    shaded(g, 'cm', 'hf', 0.5, 'shadowing', 0.2)
+    finish(g, 'hf', rough_range(g, 'hf', 0.85, 0.95), 'alb', 0.002)
 
 
 fabric_herringbone()
@@ -1040,30 +1018,20 @@ def quilted(name, desc, count, col, tufted=False, seed=421):
     """Diamond quilting: puffs between diagonal stitch lines (the product of two triangle waves);
     tufted: deeper puffs and a button at every stitch crossing."""
     g = G(name, 'fabric', desc)
-    g.n('d1', 'stripes', count=count, direction='diagonal', width=0.5, softness=0.5)
-    g.n('d2', 'stripes', count=count, direction='antidiagonal', width=0.5, softness=0.5)
+    diagonals(g, ('d1', 'd2'), count, 0.5, 0.5)
     g.n('pf', 'blend', {'fg': 'd1', 'bg': 'd2'}, mode='multiply')
     g.n('puff', 'levels', {'in': 'pf'}, gamma=2.5 if tufted else 1.8)
     g.p('puffiness', 'puff.gamma', min=1.0, max=4.0)
     g.n('w', 'weave', count=128, pattern='plain', width=0.9, seed=seed)
-    g.n('hs', 'blend', {'fg': 'w.height', 'bg': 'puff'}, mode='add', opacity=0.06)
-    g.p('weave_relief', 'hs.opacity', min=0.0, max=0.2)
-    g.n('c', 'uniform_color', color=col)
-    g.p('cloth_color', 'c.color')
-    g.n('sh', 'levels', {'in': 'puff'}, out_low=0.45 if tufted else 0.65, out_high=1.0)
-    g.p('fold_shadow', 'sh.out_low', min=0.1, max=1.0)
-    g.n('alb0', 'blend', {'fg': 'sh', 'bg': 'c'}, mode='multiply')
+    blend(g, 'hs', 'w.height', 'puff', param='weave_relief', mode='add', opacity=0.06, min=0.0, max=0.2)
+    tinted(g, 'c', col, 'cloth_color', 'puff', 0.45 if tufted else 0.65, 'fold_shadow', 0.1, out='alb0')
     alb, h = 'alb0', 'hs'
     if tufted:
         g.n('bt', 'shape', count=count, shape='disc', size=0.12, softness=0.04)
-        g.n('btc', 'uniform_color', color=[c * 0.5 for c in col])
-        g.p('button_color', 'btc.color')
-        g.n('alb', 'blend', {'fg': 'btc', 'bg': 'alb0', 'mask': 'bt'})
-        g.n('hb', 'blend', {'fg': 'bt', 'bg': 'hs'}, mode='add', opacity=0.2)
-        alb, h = 'alb', 'hb'
-    g.n('rough', 'levels', {'in': 'puff'}, out_low=0.95, out_high=0.8)
-    g.p('roughness_folds', 'rough.out_low')
-    g.p('roughness_top', 'rough.out_high')
+        uniform(g, 'btc', [c * 0.5 for c in col], 'button_color')
+        alb = blend(g, 'alb', 'btc', 'alb0', 'bt')
+        h = blend(g, 'hb', 'bt', 'hs', mode='add', opacity=0.2)
+    rough_range(g, 'puff', 0.95, 0.8, ('roughness_folds', 'roughness_top'))
     finish(g, h, 'rough', alb, 0.02 if tufted else 0.012, normal_max=0.1)
 
 
@@ -1077,43 +1045,16 @@ def corduroy():
     g.p('wale_count', 'rib.count', min=8, max=64)
     g.p('wale_width', 'rib.width', min=0.3, max=0.95)
     g.n('pile', 'fbm', scale_x=128, scale_y=32, octaves=3, roughness=0.5, seed=431)
-    g.n('h', 'blend', {'fg': 'pile', 'bg': 'rib'}, mode='overlay', opacity=0.3)
-    g.p('pile_texture', 'h.opacity')
+    blend(g, 'h', 'pile', 'rib', param='pile_texture', mode='overlay', opacity=0.3)
     colors3(g, 'col', 'h', [0.18, 0.1, 0.05], [0.32, 0.19, 0.1], [0.42, 0.27, 0.15], 0.5, 'pile')
-    g.n('rough', 'levels', {'in': 'h'}, out_low=0.95, out_high=0.8)
-    g.p('roughness_groove', 'rough.out_low')
-    g.p('roughness_top', 'rough.out_high')
+    rough_range(g, 'h', 0.95, 0.8, ('roughness_groove', 'roughness_top'))
     finish(g, 'h', 'rough', 'col', 0.004, shift=(0.5 / 24, 0))  # the border on a wale's crest, not in a groove's cusp
 
 
 corduroy()
 
-
-def knit2(name, desc, count, col, seed):
-    g = G(name, 'fabric', desc)
-    g.n('sh', 'shape', count=count, shape='bell', size=1.0)
-    g.n('zig', 'stripes', count=count, direction='diagonal', width=0.5, softness=0.3)
-    g.n('zig2', 'stripes', count=count, direction='antidiagonal', width=0.5, softness=0.3)
-    g.n('col', 'gradient_linear', direction='u', repeats=count, shape='saw')
-    g.n('vv', 'blend', {'fg': 'zig', 'bg': 'zig2', 'mask': 'col'})
-    g.n('st', 'blend', {'fg': 'sh', 'bg': 'vv'}, mode='multiply', opacity=0.5)
-    g.p('stitch_roundness', 'st.opacity')
-    g.p('stitch_softness', 'zig.softness', min=0.05, max=0.5)
-    g.n('fz', 'fbm', scale_x=min(256, count * 4), scale_y=min(256, count * 4), octaves=2, roughness=0.5, seed=seed)
-    g.n('h', 'blend', {'fg': 'fz', 'bg': 'st'}, mode='overlay', opacity=0.3)
-    g.p('fuzz', 'h.opacity')
-    g.n('c', 'uniform_color', color=col)
-    g.p('yarn_color', 'c.color')
-    g.n('s', 'levels', {'in': 'h'}, out_low=0.35, out_high=1.0)
-    g.p('shadowing', 's.out_low', min=0.1, max=1.0)
-    g.n('alb', 'blend', {'fg': 's', 'bg': 'c'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'h'}, out_low=0.95, out_high=0.85)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'h', 'rough', 'alb', 0.006, shift=(0.5 / count, 0.5 / count))
-
-
-knit2('fabric_knit_chunky', 'Chunky hand knit (throws, cushions): large V stitches of thick wool.', 8, [0.72, 0.7, 0.64], 441)
+knit('fabric_knit_chunky', 'Chunky hand knit (throws, cushions): large V stitches of thick wool.', 8, [0.72, 0.7, 0.64], 441,
+     min(256, 8 * 4), 0.35, 0.006, shift=(0.5 / 8, 0.5 / 8))
 
 fabric('fabric_canvas', 'Heavy cotton canvas / duck: coarse, tight plain weave.', 'plain', 40, [0.6, 0.55, 0.45], 0.95, 0.25, 451)
 
@@ -1131,31 +1072,18 @@ def tatami():
     g = G('carpet_tatami', 'carpet', 'Tatami: mats of fine woven rush (ribs across the mat) edged with dark cloth borders.')
     g.n('rib', 'weave', count=160, pattern='plain', width=0.95, seed=471)
     g.n('rush', 'fbm', scale_x=4, scale_y=160, octaves=3, roughness=0.6, seed=472)
-    g.n('rf', 'blend', {'fg': 'rush', 'bg': 'rib.height'}, mode='overlay', opacity=0.4)
-    g.p('rush_variation', 'rf.opacity')
+    blend(g, 'rf', 'rush', 'rib.height', param='rush_variation', mode='overlay', opacity=0.4)
     g.n('t', 'tile', {'pattern': 'rf'}, layout='grid', rows=1, cols=2, gap=0.0, bevel=0.02, lum_var=0.2, seed=473)
     g.n('edge', 'tile', layout='grid', rows=1, cols=2, gap=0.0, bevel=0.005, lum_var=0.0, seed=474)
     g.n('bm', 'histogram_scan', {'in': 't.height'}, position=0.9, contrast=0.9)
     g.p('border_width', 'bm.position', min=0.7, max=1.0)
     colors3(g, 'col', 't.sampled', [0.35, 0.33, 0.17], [0.55, 0.52, 0.3], [0.68, 0.64, 0.42], 0.5, 'rush')
-    g.n('bc', 'uniform_color', color=[0.05, 0.06, 0.05])
-    g.p('border_color', 'bc.color')
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'bc', 'mask': 'bm'})
+    over_ground(g, 'col', 'bc', [0.05, 0.06, 0.05], 'border_color', 'bm')
     g.n('h', 'blend', {'fg': 't.sampled', 'bg': 'bm'}, mode='multiply', opacity=0.3)
-    g.n('rough', 'levels', {'in': 't.sampled'}, out_low=0.55, out_high=0.75)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.004, shift=(0.25, 0.5))
+    finish(g, 'h', rough_range(g, 't.sampled', 0.55, 0.75), 'alb', 0.004, shift=(0.25, 0.5))
 
 
 tatami()
-
-
-def pile(g, seed, scale=256):
-    g.n('pn', 'white_noise', scale=scale, seed=seed)
-    g.n('pb', 'blur', {'in': 'pn'}, sigma=0.0015)
-    g.p('tuft_softness', 'pb.sigma', min=0.0005, max=0.005)
-    return 'pb'
 
 
 def rug_striped():
@@ -1164,22 +1092,9 @@ def rug_striped():
     g.n('s2', 'stripes', count=12, direction='v', width=0.3, softness=0.01)
     g.p('band_width', 's1.width', min=0.2, max=0.8)
     g.p('pinstripe_width', 's2.width', min=0.05, max=0.6)
-    g.n('ca', 'uniform_color', color=[0.7, 0.66, 0.58])
-    g.n('cb', 'uniform_color', color=[0.12, 0.16, 0.25])
-    g.n('cc', 'uniform_color', color=[0.5, 0.2, 0.1])
-    g.p('ground_color', 'ca.color')
-    g.p('band_color', 'cb.color')
-    g.p('stripe_color', 'cc.color')
-    g.n('m1', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 's1'})
-    g.n('m2', 'blend', {'fg': 'cc', 'bg': 'm1', 'mask': 's2'})
-    p = pile(g, 481)
-    g.n('wr', 'warp', {'in': 'm2', 'height': p}, intensity=0.0005)
-    g.p('pile_disorder', 'wr.intensity', min=0.0, max=0.002)
-    g.n('alb', 'blend', {'fg': p, 'bg': 'wr'}, mode='overlay', opacity=0.35)
-    g.p('pile_texture', 'alb.opacity')
-    g.n('rough', 'levels', {'in': p}, out_low=0.9, out_high=1.0)
-    g.p('roughness_min', 'rough.out_low')
-    finish(g, p, 'rough', 'alb', 0.003, shift=(0, 1 / 32))
+    three_tone(g, ([0.7, 0.66, 0.58], [0.12, 0.16, 0.25], [0.5, 0.2, 0.1]), ('ground_color', 'band_color', 'stripe_color'),
+               ('s1', 's2'))
+    rug_pile(g, 'm2', 481, 0.35, shift=(0, 1 / 32))
 
 
 rug_striped()
@@ -1187,8 +1102,7 @@ rug_striped()
 
 def rug_medallion():
     g = G('carpet_medallion_rug', 'carpet', 'Bordered rug: a field with a central diamond medallion, framed by a border band (one rug per texture tile).')
-    g.n('tu', 'gradient_linear', direction='u', repeats=1, shape='triangle')
-    g.n('tv', 'gradient_linear', direction='v', repeats=1, shape='triangle')
+    triangle_waves(g, 1)
     # frame: distance to the rug's edge = min of the two triangles (0 at the edge, 1 at the centre)
     g.n('fr', 'blend', {'fg': 'tu', 'bg': 'tv'}, mode='min')
     g.n('border', 'histogram_scan', {'in': 'fr'}, position=0.85, contrast=0.97)
@@ -1198,27 +1112,16 @@ def rug_medallion():
     g.n('dia', 'blend', {'fg': 'tu', 'bg': 'tv'}, mode='copy', opacity=0.5)
     g.n('med', 'histogram_scan', {'in': 'dia'}, position=0.25, contrast=0.97)
     g.p('medallion_size', 'med.position', min=0.05, max=0.5)
-    g.n('ca', 'uniform_color', color=[0.42, 0.06, 0.05])
-    g.n('cb', 'uniform_color', color=[0.06, 0.08, 0.2])
-    g.n('cc', 'uniform_color', color=[0.72, 0.62, 0.45])
-    g.p('field_color', 'ca.color')
-    g.p('border_color', 'cb.color')
-    g.p('ornament_color', 'cc.color')
+    palette(g, ([0.42, 0.06, 0.05], [0.06, 0.08, 0.2], [0.72, 0.62, 0.45]), ('field_color', 'border_color', 'ornament_color'))
     g.n('motif', 'stripes', count=32, direction='diagonal', width=0.25, softness=0.1)
-    g.n('mf', 'blend', {'fg': 'cc', 'bg': 'ca', 'mask': 'motif'}, opacity=0.3)
-    g.p('field_pattern', 'mf.opacity')
-    g.n('a1', 'blend', {'fg': 'cb', 'bg': 'mf', 'mask': 'med'})
+    blend(g, 'mf', 'cc', 'ca', 'motif', param='field_pattern', opacity=0.3)
+    blend(g, 'a1', 'cb', 'mf', 'med')
     g.n('ib', 'invert', {'in': 'border'})
-    g.n('a2', 'blend', {'fg': 'cb', 'bg': 'a1', 'mask': 'ib'})
+    blend(g, 'a2', 'cb', 'a1', 'ib')
     g.n('il', 'invert', {'in': 'line'})
     g.n('lm', 'blend', {'fg': 'il', 'bg': 'border'}, mode='multiply')
-    g.n('a3', 'blend', {'fg': 'cc', 'bg': 'a2', 'mask': 'lm'})
-    p = pile(g, 491)
-    g.n('alb', 'blend', {'fg': p, 'bg': 'a3'}, mode='overlay', opacity=0.3)
-    g.p('pile_texture', 'alb.opacity')
-    g.n('rough', 'levels', {'in': p}, out_low=0.9, out_high=1.0)
-    g.p('roughness_min', 'rough.out_low')
-    finish(g, p, 'rough', 'alb', 0.003)
+    blend(g, 'a3', 'cc', 'a2', 'lm')
+    rug_pile(g, 'a3', 491, 0.3, disorder=False)
 
 
 rug_medallion()
@@ -1235,10 +1138,7 @@ def shag():
     g.p('strand_swirl', 'b2.intensity', min=0.0, max=0.1)
     g.n('lv', 'levels', {'in': 'b2'}, in_low=0.3, in_high=0.7)
     colors3(g, 'col', 'lv', [0.3, 0.28, 0.25], [0.55, 0.52, 0.47], [0.75, 0.72, 0.66], 0.5, 'pile')
-    g.n('rough', 'levels', {'in': 'lv'}, out_low=0.95, out_high=0.85)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'lv', 'rough', 'col', 0.004)
+    finish(g, 'lv', rough_falling(g, 'lv', 0.95, 0.85), 'col', 0.004)
 
 
 shag()
@@ -1263,18 +1163,11 @@ def ceiling_tile(name, desc, holes, seed):
     g.n('face', 'blend', {'fg': 'f', 'bg': 'pit'}, mode='overlay', opacity=0.2)
     g.n('fh', 'blend', {'fg': 'face', 'bg': 't.height'}, mode='multiply', opacity=1.0)
     g.n('depth', 'blend', {'fg': 'pit', 'bg': 'fh'}, mode='subtract', opacity=0.5)
-    g.n('tc', 'uniform_color', color=[0.8, 0.79, 0.76])
-    g.p('tile_color', 'tc.color')
-    g.n('gc', 'uniform_color', color=[0.85, 0.85, 0.85])
-    g.p('grid_color', 'gc.color')
-    g.n('pc', 'uniform_color', color=[0.25, 0.24, 0.22])
-    g.p('hole_color', 'pc.color')
-    g.n('a0', 'blend', {'fg': 'pc', 'bg': 'tc', 'mask': 'pit'}, opacity=0.8)
-    g.p('hole_darkness', 'a0.opacity')
-    g.n('alb', 'blend', {'fg': 'a0', 'bg': 'gc', 'mask': 't.height'})
-    g.n('rough', 'levels', {'in': 't.height'}, out_low=0.4, out_high=0.95)
-    g.p('roughness_grid', 'rough.out_low')
-    g.p('roughness_tile', 'rough.out_high')
+    palette(g, ([0.8, 0.79, 0.76], [0.85, 0.85, 0.85], [0.25, 0.24, 0.22]), ('tile_color', 'grid_color', 'hole_color'),
+            ('tc', 'gc', 'pc'))
+    blend(g, 'a0', 'pc', 'tc', 'pit', param='hole_darkness', opacity=0.8)
+    blend(g, 'alb', 'a0', 'gc', 't.height')
+    rough_range(g, 't.height', 0.4, 0.95, ('roughness_grid', 'roughness_tile'))
     finish(g, 'depth', 'rough', 'alb', 0.004, shift=(0.25, 0.25))
 
 
@@ -1285,19 +1178,11 @@ ceiling_tile('tile_ceiling_perforated', 'Perforated acoustic ceiling tiles: a re
 def tile_herringbone():
     g = G('tile_herringbone', 'tile', 'Ceramic / porcelain tiles laid in herringbone with grout joints.')
     g.n('hb', 'herringbone', count=4, ratio=3, gap=0.12, bevel=0.1, lum_var=0.3, seed=521)
-    g.p('grout_width', 'hb.gap', min=0.02, max=0.3)
-    g.p('bevel', 'hb.bevel', min=0.02, max=0.3)
-    g.p('tile_variation', 'hb.lum_var')
-    g.n('cloud', 'fbm', scale_x=8, scale_y=8, octaves=4, roughness=0.5, seed=522)
-    g.n('var', 'blend', {'fg': 'cloud', 'bg': 'hb.random'}, mode='overlay', opacity=0.3)
-    g.p('surface_mottling', 'var.opacity')
+    joint_params(g, 'hb', grout=(0.02, 0.3), bevel=(0.02, 0.3))
+    mottled(g, 'hb.random', 8, 0.3, octaves=4, seed=522)
     colors3(g, 'tc', 'var', [0.42, 0.45, 0.44], [0.55, 0.58, 0.57], [0.66, 0.69, 0.68], 0.5, 'tile')
-    g.n('gc', 'uniform_color', color=[0.6, 0.6, 0.58])
-    g.p('grout_color', 'gc.color')
-    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 'hb.height'})
-    g.n('rough', 'levels', {'in': 'hb.height'}, out_low=0.8, out_high=0.15)
-    g.p('roughness_grout', 'rough.out_low')
-    g.p('roughness_tile', 'rough.out_high')
+    over_ground(g, 'tc', 'gc', [0.6, 0.6, 0.58], 'grout_color', 'hb.height')
+    grout_rough(g, 'hb.height', 0.15)
     finish(g, 'hb.height', 'rough', 'alb', 0.008, shift=(1 / 64, 1 / 64))
 
 
@@ -1307,20 +1192,12 @@ tile_herringbone()
 def zellige():
     g = G('tile_zellige', 'tile', 'Zellige: small handmade glazed tiles, strongly varied in tone, wavy glossy faces, thin joints.')
     g.n('t', 'tile', layout='grid', rows=8, cols=8, gap=0.04, bevel=0.08, lum_var=0.8, seed=531)
-    g.p('grout_width', 't.gap', min=0.0, max=0.2)
-    g.p('tile_variation', 't.lum_var')
-    g.n('wave', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=532)
-    g.n('var', 'blend', {'fg': 'wave', 'bg': 't.random'}, mode='overlay', opacity=0.5)
-    g.p('glaze_pooling', 'var.opacity')
+    joint_params(g, 't', grout=(0.0, 0.2), bevel=None)
+    mottled(g, 't.random', 16, 0.5, octaves=4, seed=532, cloud='wave', param='glaze_pooling')
     colors3(g, 'tc', 'var', [0.05, 0.2, 0.22], [0.12, 0.38, 0.4], [0.4, 0.62, 0.6], 0.5, 'glaze')
-    g.n('gc', 'uniform_color', color=[0.7, 0.68, 0.63])
-    g.p('grout_color', 'gc.color')
-    g.n('alb', 'blend', {'fg': 'tc', 'bg': 'gc', 'mask': 't.height'})
-    g.n('h', 'blend', {'fg': 'wave', 'bg': 't.height'}, mode='multiply', opacity=0.4)
-    g.p('face_waviness', 'h.opacity')
-    g.n('rough', 'levels', {'in': 't.height'}, out_low=0.8, out_high=0.06)
-    g.p('roughness_grout', 'rough.out_low')
-    g.p('roughness_glaze', 'rough.out_high')
+    over_ground(g, 'tc', 'gc', [0.7, 0.68, 0.63], 'grout_color', 't.height')
+    blend(g, 'h', 'wave', 't.height', param='face_waviness', mode='multiply', opacity=0.4)
+    grout_rough(g, 't.height', 0.06, 'glaze')
     finish(g, 'h', 'rough', 'alb', 0.01, shift=(1 / 16, 1 / 16))
 
 
@@ -1331,59 +1208,25 @@ def encaustic():
     g = G('tile_encaustic', 'tile', 'Encaustic / cement pattern tiles: a two-colour star-and-diamond motif repeated on every tile.')
     g.n('t', 'tile', layout='grid', rows=4, cols=4, gap=0.02, bevel=0.02, lum_var=0.1, seed=541)
     g.p('grout_width', 't.gap', min=0.0, max=0.1)
-    g.n('tu', 'gradient_linear', direction='u', repeats=4, shape='triangle')
-    g.n('tv', 'gradient_linear', direction='v', repeats=4, shape='triangle')
+    triangle_waves(g, 4)
     g.n('dia', 'blend', {'fg': 'tu', 'bg': 'tv'}, mode='copy', opacity=0.5)
     g.n('m1', 'histogram_scan', {'in': 'dia'}, position=0.45, contrast=0.95)
     g.p('diamond_size', 'm1.position', min=0.2, max=0.7)
     g.n('sq', 'blend', {'fg': 'tu', 'bg': 'tv'}, mode='max')
     g.n('m2', 'histogram_scan', {'in': 'sq'}, position=0.3, contrast=0.95)
     g.p('star_size', 'm2.position', min=0.1, max=0.5)
-    g.n('ca', 'uniform_color', color=[0.75, 0.73, 0.68])
-    g.n('cb', 'uniform_color', color=[0.1, 0.16, 0.3])
-    g.n('cc', 'uniform_color', color=[0.6, 0.35, 0.2])
-    g.p('ground_color', 'ca.color')
-    g.p('motif_color', 'cb.color')
-    g.p('accent_color', 'cc.color')
-    g.n('a1', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'm1'})
-    g.n('a2', 'blend', {'fg': 'cc', 'bg': 'a1', 'mask': 'm2'})
+    three_tone(g, ([0.75, 0.73, 0.68], [0.1, 0.16, 0.3], [0.6, 0.35, 0.2]), ('ground_color', 'motif_color', 'accent_color'),
+               ('m1', 'm2'), ('a1', 'a2'))
     g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=4, roughness=0.5, seed=542)
-    g.n('a3', 'blend', {'fg': 'f', 'bg': 'a2'}, mode='overlay', opacity=0.15)
-    g.p('wear', 'a3.opacity')
-    g.n('gc', 'uniform_color', color=[0.55, 0.53, 0.5])
-    g.n('alb', 'blend', {'fg': 'a3', 'bg': 'gc', 'mask': 't.height'})
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.5, out_high=0.7)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 't.height', 'rough', 'alb', 0.004, shift=(1 / 8, 1 / 8))
+    blend(g, 'a3', 'f', 'a2', param='wear', mode='overlay', opacity=0.15)
+    uniform(g, 'gc', [0.55, 0.53, 0.5])
+    blend(g, 'alb', 'a3', 'gc', 't.height')
+    finish(g, 't.height', rough_range(g, 'f', 0.5, 0.7), 'alb', 0.004, shift=(1 / 8, 1 / 8))
 
 
 encaustic()
 
 # ---------------------------------------------------------------- wood: grains, panelling, laminate
-def wood_plank_variant(name, desc, grain_fn, rows, cols, layout, col, seed, tint=0.5, lum_var=0.5, gap=0.02, bevel=0.03,
-                       rough=(0.5, 0.38), shift=None):
-    g = G(name, 'wood', desc)
-    grain = grain_fn(g, seed)
-    g.n('tiles', 'tile', {'pattern': grain}, layout=layout, rows=rows, cols=cols, row_offset=0.5 if layout == 'bricks' else 0.9,
-        gap=gap, bevel=bevel, lum_var=lum_var, seed=seed)
-    g.p('plank_gap', 'tiles.gap', min=0.0, max=0.1)
-    g.p('plank_bevel', 'tiles.bevel', min=0.005, max=0.2)
-    g.p('plank_variation', 'tiles.lum_var')
-    c = wood_colors(g, 'tiles.sampled', *col)
-    g.n('tint', 'blend', {'fg': 'tiles.random', 'bg': c}, mode='overlay', opacity=tint)
-    g.p('plank_tint', 'tint.opacity', doc='per-plank brightness variation')
-    g.n('gapm', 'invert', {'in': 'tiles.height'})
-    g.n('gapc', 'uniform_color', color=[0.25, 0.2, 0.17])
-    g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'tint', 'mask': 'gapm'}, mode='multiply', opacity=1.0)
-    g.n('h', 'blend', {'fg': grain, 'bg': 'tiles.height'}, mode='multiply', opacity=0.15)
-    r = rough_from(g, grain, *rough)
-    # shift: by default half a plank; the random row offsets of `planks` can still put a plank end
-    # on the border, then a measured shift is given
-    finish(g, 'h', r, 'alb', 0.005, normal_max=0.03,
-           shift=shift or ((0.25 if layout == 'bricks' else 0.5) / cols, 0.5 / rows), shift_maps=('alb', 'hgt'))
-
-
 def cathedral_grain(g, seed):
     """Flat-sawn grain: rings bent into nested arches (the 'cathedrals') by a triangle ramp
     across each plank-wide band, then wavy."""
@@ -1392,28 +1235,18 @@ def cathedral_grain(g, seed):
     g.n('arch', 'levels', {'in': 'tri'}, gamma=0.45)  # rounds the triangle's tip into an arch
     g.n('arched', 'directional_warp', {'in': 'ring', 'height': 'arch'}, intensity=0.12, angle=0.25)
     g.p('arch_height', 'arched.intensity', min=0.0, max=0.2)
-    g.n('wave', 'fbm', scale_x=2, scale_y=2, octaves=3, roughness=0.35, seed=seed)
-    g.n('wavy', 'directional_warp', {'in': 'arched', 'height': 'wave'}, intensity=0.03, angle=0.25)
-    g.p('ring_waviness', 'wavy.intensity', min=0.0, max=0.05)
-    g.p('ring_width', 'ring.width', min=0.1, max=0.8)
-    g.n('fib', 'fbm', scale_x=4, scale_y=96, octaves=3, roughness=0.6, seed=seed + 7)
-    g.n('grain', 'blend', {'fg': 'fib', 'bg': 'wavy'}, mode='overlay', opacity=0.3)
-    g.p('fiber_strength', 'grain.opacity', min=0.0, max=1.0)
-    return 'grain'
+    return wavy_fibers(g, 'arched', seed, 2, 0.03, 0.3)
 
 
 def quarter_sawn_grain(g, seed):
     """Quarter-sawn: tight straight rings with the medullary-ray flecks (short light streaks)."""
     g.n('ring', 'stripes', count=96, direction='v', width=0.4, softness=0.3)
     g.n('fib', 'fbm', scale_x=4, scale_y=128, octaves=3, roughness=0.6, seed=seed)
-    g.n('rg', 'blend', {'fg': 'fib', 'bg': 'ring'}, mode='overlay', opacity=0.4)
-    g.p('fiber_strength', 'rg.opacity')
+    blend(g, 'rg', 'fib', 'ring', param='fiber_strength', mode='overlay', opacity=0.4)
     g.n('fl', 'fbm', scale_x=16, scale_y=64, octaves=3, roughness=0.5, seed=seed + 3)
     g.n('fleck', 'histogram_scan', {'in': 'fl'}, position=0.2, contrast=0.85)
     g.p('ray_flecks', 'fleck.position', min=0.0, max=0.5)
-    g.n('grain', 'blend', {'fg': 'fleck', 'bg': 'rg'}, mode='screen', opacity=0.6)
-    g.p('fleck_strength', 'grain.opacity')
-    return 'grain'
+    return blend(g, 'grain', 'fleck', 'rg', param='fleck_strength', mode='screen', opacity=0.6)
 
 
 def laminate_grain(g, seed):
@@ -1423,13 +1256,13 @@ def laminate_grain(g, seed):
     return 'print'
 
 
-wood_plank_variant('wood_cathedral_oak', 'Flat-sawn oak planks with strong cathedral (arched) grain.', cathedral_grain, 4, 1, 'planks',
-                   ((0.56, 0.36, 0.18), (0.40, 0.23, 0.10), (0.24, 0.12, 0.05)), 551)
-wood_plank_variant('wood_quarter_sawn', 'Quarter-sawn oak: straight tight grain with silvery ray flecks.', quarter_sawn_grain, 6, 2, 'planks',
-                   ((0.6, 0.42, 0.24), (0.45, 0.3, 0.15), (0.3, 0.18, 0.08)), 553, shift=(1 / 64, 2 / 64))
-wood_plank_variant('wood_laminate', 'Laminate flooring: a printed wood decor that repeats every few planks, uniform tone, micro-bevel.',
-                   laminate_grain, 8, 2, 'planks', ((0.62, 0.47, 0.32), (0.5, 0.36, 0.22), (0.36, 0.24, 0.13)), 555,
-                   tint=0.2, lum_var=0.15, gap=0.01, bevel=0.02, rough=(0.45, 0.35))
+wood_planks('wood_cathedral_oak', 'Flat-sawn oak planks with strong cathedral (arched) grain.', cathedral_grain, 4, 1, 'planks',
+            ((0.56, 0.36, 0.18), (0.40, 0.23, 0.10), (0.24, 0.12, 0.05)), 551)
+wood_planks('wood_quarter_sawn', 'Quarter-sawn oak: straight tight grain with silvery ray flecks.', quarter_sawn_grain, 6, 2, 'planks',
+            ((0.6, 0.42, 0.24), (0.45, 0.3, 0.15), (0.3, 0.18, 0.08)), 553, shift=(1 / 64, 2 / 64))
+wood_planks('wood_laminate', 'Laminate flooring: a printed wood decor that repeats every few planks, uniform tone, micro-bevel.',
+            laminate_grain, 8, 2, 'planks', ((0.62, 0.47, 0.32), (0.5, 0.36, 0.22), (0.36, 0.24, 0.13)), 555,
+            tint=0.2, lum_var=0.15, gap=0.01, bevel=0.02, rough=(0.45, 0.35))
 
 
 def tongue_groove(name, desc, boards, painted, col, seed, panel=False):
@@ -1453,19 +1286,13 @@ def tongue_groove(name, desc, boards, painted, col, seed, panel=False):
         prof = 'gr'
     g.p('board_variation', 't.lum_var')
     if painted:
-        g.n('paint', 'uniform_color', color=col[0])
-        g.p('paint_color', 'paint.color')
-        g.n('shade', 'levels', {'in': 't.sampled'}, out_low=0.9, out_high=1.0)
-        g.p('grain_show_through', 'shade.out_low', min=0.6, max=1.0)
-        g.n('c0', 'blend', {'fg': 'shade', 'bg': 'paint'}, mode='multiply')
-        r = rough_from(g, 't.sampled', 0.55, 0.45)
+        tinted(g, 'paint', col[0], 'paint_color', 't.sampled', 0.9, 'grain_show_through', 0.6, sh='shade', out='c0')
+        r = rough_range(g, 't.sampled', 0.55, 0.45)
     else:
         c0 = wood_colors(g, 't.sampled', *col)
-        r = rough_from(g, 't.sampled', 0.5, 0.4)
-        g.n('c0', 'blend', {'fg': 't.random', 'bg': c0}, mode='overlay', opacity=0.4)
-    g.n('sh', 'levels', {'in': prof}, out_low=0.8 if panel else 0.35, out_high=1.0)
-    g.p('groove_shadow', 'sh.out_low', min=0.0, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'c0'}, mode='multiply')
+        r = rough_range(g, 't.sampled', 0.5, 0.4)
+        blend(g, 'c0', 't.random', c0, mode='overlay', opacity=0.4)
+    shaded(g, 'c0', prof, 0.8 if panel else 0.35, 'groove_shadow', 0.0)
     g.n('h', 'blend', {'fg': 't.sampled', 'bg': prof}, mode='multiply', opacity=0.05)
     finish(g, 'h', r, 'alb', 0.006 if not panel else 0.03, normal_max=0.06 if not panel else 0.1,
            shift=(0.5 / boards, 0.25 if panel else 0))
@@ -1486,20 +1313,15 @@ def worn_painted_planks():
     g.p('plank_gap', 't.gap', min=0.0, max=0.1)
     g.p('plank_bevel', 't.bevel', min=0.01, max=0.3)
     wood = wood_colors(g, 't.sampled', (0.5, 0.33, 0.17), (0.36, 0.21, 0.09), (0.2, 0.1, 0.04))
-    g.n('paint', 'uniform_color', color=[0.55, 0.62, 0.66])
-    g.p('paint_color', 'paint.color')
+    uniform(g, 'paint', [0.55, 0.62, 0.66], 'paint_color')
     g.n('wn', 'fbm', scale_x=8, scale_y=8, octaves=6, roughness=0.6, seed=573)
     g.n('wm', 'blend', {'fg': 'wn', 'bg': 't.height'}, mode='multiply')
     g.n('keep', 'histogram_scan', {'in': 'wm'}, position=0.55, contrast=0.8)
     g.p('paint_left', 'keep.position', min=0.2, max=0.9)
-    g.n('alb0', 'blend', {'fg': 'paint', 'bg': wood, 'mask': 'keep'})
-    g.n('gapm', 'invert', {'in': 't.height'})
-    g.n('gapc', 'uniform_color', color=[0.2, 0.17, 0.15])
-    g.n('alb', 'blend', {'fg': 'gapc', 'bg': 'alb0', 'mask': 'gapm'}, mode='multiply')
+    blend(g, 'alb0', 'paint', wood, 'keep')
+    dark_joints(g, 'alb0', 't.height', [0.2, 0.17, 0.15])
     g.n('h', 'blend', {'fg': 'keep', 'bg': 't.height'}, mode='add', opacity=0.1)
-    g.n('rough', 'levels', {'in': 'keep'}, out_low=0.75, out_high=0.45)
-    g.p('roughness_wood', 'rough.out_low')
-    g.p('roughness_paint', 'rough.out_high')
+    rough_range(g, 'keep', 0.75, 0.45, ('roughness_wood', 'roughness_paint'))
     finish(g, 'h', 'rough', 'alb', 0.005, normal_max=0.03, shift=(0.5, 1 / 12))
 
 
@@ -1511,23 +1333,14 @@ def wicker(name, desc, pattern, count, width, col, seed, holes=False):
     g.n('w', 'weave', count=count, pattern=pattern, width=width, seed=seed)
     g.p('strand_width', 'w.width', min=0.4 if holes else 0.7, max=1.0)
     g.n('fib', 'fbm', scale_x=count * 2, scale_y=count * 2, octaves=2, roughness=0.5, seed=seed + 1)
-    g.n('hf', 'blend', {'fg': 'fib', 'bg': 'w.height'}, mode='overlay', opacity=0.15)
-    g.n('tv', 'blend', {'fg': 'w.random', 'bg': 'hf'}, mode='overlay', opacity=0.4)
-    g.p('strand_variation', 'tv.opacity')
-    colors3(g, 'col', 'tv', [c * 0.45 for c in col], col, [min(1, c * 1.25) for c in col], 0.6, 'cane')
+    blend(g, 'hf', 'fib', 'w.height', mode='overlay', opacity=0.15)
+    blend(g, 'tv', 'w.random', 'hf', param='strand_variation', mode='overlay', opacity=0.4)
+    alb = colors3(g, 'col', 'tv', [c * 0.45 for c in col], col, [min(1, c * 1.25) for c in col], 0.6, 'cane')
     if holes:  # cane webbing: the gaps between strands show what is behind (dark)
         g.n('hole', 'histogram_scan', {'in': 'w.height'}, position=0.8, contrast=0.9)
         g.p('hole_size', 'hole.position', min=0.5, max=1.0)
-        g.n('bk', 'uniform_color', color=[0.03, 0.025, 0.02])
-        g.p('behind_color', 'bk.color')
-        g.n('alb', 'blend', {'fg': 'col', 'bg': 'bk', 'mask': 'hole'})
-        alb = 'alb'
-    else:
-        alb = 'col'
-    g.n('rough', 'levels', {'in': 'tv'}, out_low=0.55, out_high=0.35)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'tv', 'rough', alb, 0.008, normal_max=0.06, shift=(0.5 / count, 0.5 / count))
+        alb = over_ground(g, 'col', 'bk', [0.03, 0.025, 0.02], 'behind_color', 'hole')
+    finish(g, 'tv', rough_falling(g, 'tv', 0.55, 0.35), alb, 0.008, normal_max=0.06, shift=(0.5 / count, 0.5 / count))
 
 
 wicker('wood_rattan_weave', 'Rattan / wicker furniture: thick round cane strands in a plain over-under weave.', 'plain', 12, 0.95,
@@ -1544,26 +1357,19 @@ def stone_wall(name, desc, scale, stone, mortar, seed, irregular=True, rows=4, c
         g.n('body', 'histogram_scan', {'in': 'v'}, position=0.8, contrast=0.75)
         g.p('mortar_width', 'body.position', min=0.5, max=0.98)
         g.n('bulge', 'levels', {'in': 'v'}, in_low=0.0, in_high=0.6)
-        g.n('hb', 'blend', {'fg': 'bulge', 'bg': 'body'}, mode='multiply', opacity=0.6)
-        g.p('stone_bulge', 'hb.opacity')
-        body, rnd = 'body', 'cv'
+        blend(g, 'hb', 'bulge', 'body', param='stone_bulge', mode='multiply', opacity=0.6)
+        body, rnd, hb = 'body', 'cv', 'hb'
     else:
         g.n('t', 'tile', layout='bricks', rows=rows, cols=cols, row_offset=0.5, gap=0.06, bevel=0.2, lum_var=0.6, seed=seed)
         g.p('mortar_width', 't.gap', min=0.0, max=0.2)
         g.p('edge_rounding', 't.bevel', min=0.02, max=0.4)
         body, rnd, hb = 't.height', 't.random', 't.height'
     g.n('f', 'fbm', scale_x=8, scale_y=8, octaves=7, roughness=0.6, seed=seed + 1)
-    g.n('m', 'blend', {'fg': 'f', 'bg': rnd}, mode='overlay', opacity=0.6)
-    g.p('stone_texture', 'm.opacity')
+    blend(g, 'm', 'f', rnd, param='stone_texture', mode='overlay', opacity=0.6)
     colors3(g, 'col', 'm', [c * 0.55 for c in stone], stone, [min(1, c * 1.3) for c in stone], 0.5, 'stone')
-    g.n('mc', 'uniform_color', color=mortar)
-    g.p('mortar_color', 'mc.color')
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'mc', 'mask': body})
-    g.n('h', 'blend', {'fg': 'f', 'bg': 'hb' if irregular else hb}, mode='multiply', opacity=0.4)
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.7, out_high=0.95)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.02, normal_max=0.1,
+    over_ground(g, 'col', 'mc', mortar, 'mortar_color', body)
+    g.n('h', 'blend', {'fg': 'f', 'bg': hb}, mode='multiply', opacity=0.4)
+    finish(g, 'h', rough_range(g, 'f', 0.7, 0.95), 'alb', 0.02, normal_max=0.1,
            shift=(0.5 / scale, 0.5 / scale) if irregular else (0.25 / cols, 0.5 / rows))
 
 
@@ -1577,23 +1383,15 @@ cementish('stone_limestone', 'stone', 'Honed limestone: pale beige, fine fossil 
 def concrete_blocks():
     g = G('concrete_block_wall', 'concrete', 'Concrete block (CMU) wall: large grey blocks in running bond, porous faces.')
     g.n('f', 'fbm', scale_x=32, scale_y=32, octaves=6, roughness=0.6, seed=601)
-    g.n('p', 'voronoi', scale=96, jitter=1.0, mode='f1', seed=602)
-    g.n('pm', 'histogram_scan', {'in': 'p'}, position=0.9, contrast=0.7)
-    g.p('pore_amount', 'pm.position', min=0.8, max=1.0)
-    g.n('s', 'blend', {'fg': 'pm', 'bg': 'f'}, mode='subtract', opacity=0.5)
+    pitted(g, 'f', 96, 602, 0.9, 0.8, 's')
     g.n('t', 'tile', {'pattern': 's'}, layout='bricks', rows=8, cols=2, row_offset=0.5, gap=0.05, bevel=0.04, lum_var=0.3, seed=603)
     g.p('joint_width', 't.gap', min=0.0, max=0.15)
     g.p('block_variation', 't.lum_var')
-    g.n('m', 'blend', {'fg': 't.random', 'bg': 't.sampled'}, mode='overlay', opacity=0.4)
+    blend(g, 'm', 't.random', 't.sampled', mode='overlay', opacity=0.4)
     colors3(g, 'col', 'm', [0.3, 0.3, 0.29], [0.45, 0.45, 0.43], [0.58, 0.58, 0.55], 0.5, 'block')
-    g.n('mc', 'uniform_color', color=[0.5, 0.49, 0.46])
-    g.p('mortar_color', 'mc.color')
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'mc', 'mask': 't.height'})
+    over_ground(g, 'col', 'mc', [0.5, 0.49, 0.46], 'mortar_color', 't.height')
     g.n('h', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.3)
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.8, out_high=0.95)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'h', 'rough', 'alb', 0.01, shift=(0.125, 1 / 16))
+    finish(g, 'h', rough_range(g, 'f', 0.8, 0.95), 'alb', 0.01, shift=(0.125, 1 / 16))
 
 
 concrete_blocks()
@@ -1603,17 +1401,12 @@ def board_formed():
     g = G('concrete_board_formed', 'concrete', 'Board-formed concrete: the imprint of formwork boards (horizontal bands with wood grain) on grey concrete.')
     g.n('gr', 'fbm', scale_x=2, scale_y=64, octaves=4, roughness=0.6, seed=611)
     g.n('t', 'tile', {'pattern': 'gr'}, layout='planks', rows=8, cols=1, row_offset=0.9, gap=0.0, bevel=0.06, lum_var=0.4, seed=612)
-    g.n('imp', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.5)
-    g.p('grain_imprint', 'imp.opacity')
+    blend(g, 'imp', 't.sampled', 't.height', param='grain_imprint', mode='multiply', opacity=0.5)
     g.n('f', 'fbm', scale_x=8, scale_y=8, octaves=6, roughness=0.6, seed=613)
-    g.n('m', 'blend', {'fg': 'f', 'bg': 'imp'}, mode='overlay', opacity=0.5)
-    g.n('m2', 'blend', {'fg': 't.random', 'bg': 'm'}, mode='overlay', opacity=0.3)
-    g.p('board_tone_variation', 'm2.opacity')
+    blend(g, 'm', 'f', 'imp', mode='overlay', opacity=0.5)
+    blend(g, 'm2', 't.random', 'm', param='board_tone_variation', mode='overlay', opacity=0.3)
     colors3(g, 'col', 'm2', [0.3, 0.3, 0.29], [0.48, 0.47, 0.45], [0.6, 0.59, 0.56], 0.5, 'concrete')
-    g.n('rough', 'levels', {'in': 'f'}, out_low=0.75, out_high=0.92)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    finish(g, 'imp', 'rough', 'col', 0.006, shift=(0, 1 / 16))
+    finish(g, 'imp', rough_range(g, 'f', 0.75, 0.92), 'col', 0.006, shift=(0, 1 / 16))
 
 
 board_formed()
@@ -1625,13 +1418,10 @@ cementish('plaster_painted_red', 'plaster', 'Painted plaster wall in a strong co
 def wallpaper_motif(name, desc, kind, col_a, col_b, seed):
     g = G(name, 'wallpaper', desc)
     if kind == 'dots':
-        g.n('m1', 'shape', count=8, shape='disc', size=0.35, softness=0.04)
+        staggered_discs(g, ('m1', 'm2', 'mot'), 8, 0.35, 0.04, 1 / 16)
         g.p('dot_size', 'm1.size', min=0.1, max=0.7)
-        g.n('m2', 'transform', {'in': 'm1'}, offset_u=1 / 16, offset_v=1 / 16)
-        g.n('mot', 'blend', {'fg': 'm1', 'bg': 'm2'}, mode='max')
     elif kind == 'trellis':  # an ogee-like trellis: diagonal lines bent by a radial field
-        g.n('d1', 'stripes', count=6, direction='diagonal', width=0.12, softness=0.03)
-        g.n('d2', 'stripes', count=6, direction='antidiagonal', width=0.12, softness=0.03)
+        diagonals(g, ('d1', 'd2'), 6, 0.12, 0.03)
         g.n('dd', 'blend', {'fg': 'd1', 'bg': 'd2'}, mode='max')
         g.n('rad', 'gradient_radial', count=6, radius=1.0)
         g.n('mot', 'warp', {'in': 'dd', 'height': 'rad'}, intensity=0.001)
@@ -1651,8 +1441,7 @@ def wallpaper_motif(name, desc, kind, col_a, col_b, seed):
         g.n('mot', 'histogram_scan', {'in': 'fl2'}, position=0.5, contrast=0.8)
         g.p('bloom', 'mot.position', min=0.2, max=0.8)
     else:  # geometric: interlocking diamonds and squares
-        g.n('tu', 'gradient_linear', direction='u', repeats=6, shape='triangle')
-        g.n('tv', 'gradient_linear', direction='v', repeats=6, shape='triangle')
+        triangle_waves(g, 6)
         g.n('dia', 'blend', {'fg': 'tu', 'bg': 'tv'}, mode='copy', opacity=0.5)
         g.n('ring', 'histogram_scan', {'in': 'dia'}, position=0.5, contrast=0.9)
         g.n('ring2', 'histogram_scan', {'in': 'dia'}, position=0.35, contrast=0.9)
@@ -1660,18 +1449,10 @@ def wallpaper_motif(name, desc, kind, col_a, col_b, seed):
         g.n('mot', 'blend', {'fg': 'ir', 'bg': 'ring'}, mode='multiply')
         g.p('band_outer', 'ring.position', min=0.3, max=0.8)
         g.p('band_inner', 'ring2.position', min=0.05, max=0.45)
-    g.n('ca', 'uniform_color', color=col_a)
-    g.n('cb', 'uniform_color', color=col_b)
-    g.p('ground_color', 'ca.color')
-    g.p('motif_color', 'cb.color')
-    g.n('m', 'blend', {'fg': 'cb', 'bg': 'ca', 'mask': 'mot'})
-    g.n('paper', 'fbm', scale_x=64, scale_y=64, octaves=3, roughness=0.5, seed=seed)
-    g.n('alb', 'blend', {'fg': 'paper', 'bg': 'm'}, mode='overlay', opacity=0.12)
-    g.p('paper_texture', 'alb.opacity')
+    two_tone(g, 'm', 'mot', (col_a, col_b), ('ground_color', 'motif_color'))
+    paper_texture(g, 'm', seed, 0.12)
     g.n('h', 'blend', {'fg': 'mot', 'bg': 'paper'}, mode='add', opacity=0.2)
-    g.n('rough', 'levels', {'in': 'mot'}, out_low=0.8, out_high=0.55)
-    g.p('roughness_ground', 'rough.out_low')
-    g.p('roughness_motif', 'rough.out_high')
+    rough_range(g, 'mot', 0.8, 0.55, ('roughness_ground', 'roughness_motif'))
     finish(g, 'h', 'rough', 'alb', 0.003)
 
 
@@ -1683,22 +1464,14 @@ wallpaper_motif('wallpaper_geometric', 'Geometric wallpaper: nested diamond band
 # ---------------------------------------------------------------- metal, plastic
 def perforated_metal():
     g = G('metal_perforated', 'metal', 'Perforated metal sheet: round holes in a staggered grid, dark behind.')
-    g.n('h1', 'shape', count=16, shape='disc', size=0.55, softness=0.06)
-    g.n('h2', 'transform', {'in': 'h1'}, offset_u=1 / 32, offset_v=1 / 32)
-    g.n('holes', 'blend', {'fg': 'h1', 'bg': 'h2'}, mode='max')
+    staggered_discs(g, ('h1', 'h2', 'holes'), 16, 0.55, 0.06, 1 / 32)
     g.p('hole_size', 'h1.size', min=0.2, max=0.9)
     g.n('sheet', 'invert', {'in': 'holes'})
     g.n('br', 'fbm', scale_x=2, scale_y=256, octaves=3, roughness=0.6, seed=651)
     colors3(g, 'col', 'br', [0.45, 0.45, 0.47], [0.58, 0.58, 0.6], [0.68, 0.68, 0.7], 0.5, 'metal')
-    g.n('bk', 'uniform_color', color=[0.02, 0.02, 0.02])
-    g.p('behind_color', 'bk.color')
-    g.n('alb', 'blend', {'fg': 'col', 'bg': 'bk', 'mask': 'sheet'})
-    g.n('rough', 'levels', {'in': 'br'}, out_low=0.3, out_high=0.45)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    g.n('metal', 'levels', {'in': 'sheet'}, out_low=0.0, out_high=1.0)
-    g.p('sheet_metallic', 'metal.out_high')
-    finish(g, 'sheet', 'rough', 'alb', 0.004, metallic='metal')
+    over_ground(g, 'col', 'bk', [0.02, 0.02, 0.02], 'behind_color', 'sheet')
+    rough_range(g, 'br', 0.3, 0.45)
+    finish(g, 'sheet', 'rough', 'alb', 0.004, metallic=metallic_where(g, 'sheet', 1.0, 'sheet_metallic'))
 
 
 perforated_metal()
@@ -1706,20 +1479,15 @@ perforated_metal()
 
 def tread_plate():
     g = G('metal_tread_plate', 'metal', 'Diamond (tread) plate: raised short bars alternating in direction on steel / aluminium.')
-    g.n('d1', 'stripes', count=24, direction='diagonal', width=0.3, softness=0.3)
-    g.n('d2', 'stripes', count=24, direction='antidiagonal', width=0.3, softness=0.3)
+    diagonals(g, ('d1', 'd2'), 24, 0.3, 0.3)
     g.n('sel', 'checker', count=6, softness=0.01)
-    g.n('bars', 'blend', {'fg': 'd1', 'bg': 'd2', 'mask': 'sel'})
+    blend(g, 'bars', 'd1', 'd2', 'sel')
     g.n('cell', 'shape', count=12, shape='bell', size=0.8)
     g.n('h', 'blend', {'fg': 'cell', 'bg': 'bars'}, mode='multiply')
     g.n('br', 'fbm', scale_x=4, scale_y=4, octaves=4, roughness=0.5, seed=661)
     colors3(g, 'col', 'br', [0.5, 0.5, 0.52], [0.62, 0.62, 0.64], [0.72, 0.72, 0.74], 0.5, 'metal')
-    g.n('rough', 'levels', {'in': 'br'}, out_low=0.25, out_high=0.45)
-    g.p('roughness_min', 'rough.out_low')
-    g.p('roughness_max', 'rough.out_high')
-    g.n('metal', 'uniform_gray', value=1.0)
-    g.p('metallic', 'metal.value')
-    finish(g, 'h', 'rough', 'col', 0.01, metallic='metal', shift=(1 / 48, 1 / 48))
+    rough_range(g, 'br', 0.25, 0.45)
+    finish(g, 'h', 'rough', 'col', 0.01, metallic=fully_metallic(g), shift=(1 / 48, 1 / 48))
 
 
 tread_plate()
@@ -1729,19 +1497,10 @@ def woven_vinyl():
     g = G('plastic_woven_vinyl', 'plastic', 'Woven vinyl flooring: flat two-colour PVC strands in a basket weave, semi-gloss.')
     g.n('w', 'weave', count=48, pattern='basket_2_2', width=0.92, seed=671)
     g.p('strand_width', 'w.width', min=0.7, max=1.0)
-    g.n('ca', 'uniform_color', color=[0.3, 0.3, 0.28])
-    g.n('cb', 'uniform_color', color=[0.55, 0.53, 0.48])
-    g.p('warp_color', 'ca.color')
-    g.p('weft_color', 'cb.color')
-    g.n('cm', 'blend', {'fg': 'ca', 'bg': 'cb', 'mask': 'w.warp'})
+    warp_weft_colors(g, [0.3, 0.3, 0.28], [0.55, 0.53, 0.48], 'w.warp')
     g.n('fl', 'levels', {'in': 'w.height'}, in_low=0.3, in_high=0.9)
-    g.n('sh', 'levels', {'in': 'fl'}, out_low=0.6, out_high=1.0)
-    g.p('shadowing', 'sh.out_low', min=0.2, max=1.0)
-    g.n('alb', 'blend', {'fg': 'sh', 'bg': 'cm'}, mode='multiply')
-    g.n('rough', 'levels', {'in': 'fl'}, out_low=0.6, out_high=0.35)
-    g.p('roughness_min', 'rough.out_high')
-    g.p('roughness_max', 'rough.out_low')
-    finish(g, 'fl', 'rough', 'alb', 0.003)
+    shaded(g, 'cm', 'fl', 0.6, 'shadowing', 0.2)
+    finish(g, 'fl', rough_falling(g, 'fl', 0.6, 0.35), 'alb', 0.003)
 
 
 woven_vinyl()
