@@ -133,9 +133,14 @@ class Reads {
   int unit_;
 };
 
-/// One stage. Subclasses fill `decl` in their constructor and implement the unit's work.
+/// One stage. Subclasses name it and its unit here and fill the rest of `decl` in their
+/// constructor, and implement the unit's work.
 class Stage {
  public:
+  explicit Stage(std::string name, Unit unit = Unit::Global) {
+    decl.name = std::move(name);
+    decl.unit = unit;
+  }
   virtual ~Stage() = default;
   StageDecl decl;
   /// Whether unit `u` runs in this run (e.g. only the parts being fitted); a unit that does not
@@ -157,6 +162,17 @@ class Stage {
     (void)ctx;
     (void)in;
   }
+};
+
+/// A cheap step derived again on every run (`decl.cached` false, no row of the stage table):
+/// nothing to save or load.
+class DerivedStage : public Stage {
+ public:
+  explicit DerivedStage(std::string name, Unit unit = Unit::Global) : Stage(std::move(name), unit) {
+    decl.cached = false;
+  }
+  void save(const Context&, int, Archive&) const final {}
+  bool load(Context&, const Reads&, int, Archive&) final { return false; }
 };
 
 using StageList = std::vector<std::unique_ptr<Stage>>;

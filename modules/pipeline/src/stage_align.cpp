@@ -14,9 +14,7 @@ namespace {
 
 class AlignStage : public Stage {
  public:
-  AlignStage() {
-    decl.name = "align";
-    decl.unit = Unit::View;
+  AlignStage() : Stage("align", Unit::View) {
     decl.scene = {"geometry",         "views[].camera",
                   "views[].image",    "views[].color_space",
                   "views[].segments", "views[].segment_parts"};
@@ -69,17 +67,14 @@ class AlignStage : public Stage {
 // Every part's observations in every view first (for the views' relative exposure, estimated
 // from the parts they share), then per part the view chooseView picks with exposure-corrected
 // appearance, and its median colour divided by that view's exposure.
-class ObserveStage : public Stage {
+class ObserveStage : public DerivedStage {
  public:
-  ObserveStage() {
-    decl.name = "observe";
-    decl.unit = Unit::Part;
+  ObserveStage() : DerivedStage("observe", Unit::Part) {
     decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
     decl.options = {"work_width"};
     decl.after = {"parts", "geometry", "align"};
     decl.writes = {"PartWork::view", "PartWork::pixels", "PartWork::median",
                    "PartWork::seen", "PartMode::Unseen", "Context::exposure (estimate)"};
-    decl.cached = false;
   }
 
   bool compute(Context& ctx, const Reads& in, int u) override {
@@ -108,8 +103,6 @@ class ObserveStage : public Stage {
     }
     return true;
   }
-  void save(const Context&, int, Archive&) const override {}
-  bool load(Context&, const Reads&, int, Archive&) override { return false; }
   void finish(Context&, const Reads&) override { obs_.clear(); }
 
  private:
@@ -173,14 +166,12 @@ class ObserveStage : public Stage {
 
 // The scale pin: neutral albedos = photo medians x pin, with a pixel-weighted mean luminance of
 // `mean_albedo` over the parts to be fitted (pipeline.hpp: the scale one photo cannot fix).
-class PinStage : public Stage {
+class PinStage : public DerivedStage {
  public:
-  PinStage() {
-    decl.name = "pin";
+  PinStage() : DerivedStage("pin") {
     decl.options = {"mean_albedo"};
     decl.after = {"parts", "observe"};
     decl.writes = {"Context::albedoPin"};
-    decl.cached = false;
   }
 
   bool compute(Context& ctx, const Reads& in, int) override {
@@ -196,8 +187,6 @@ class PinStage : public Stage {
                  ctx.albedoPin, in.meanAlbedo(), weight);
     return true;
   }
-  void save(const Context&, int, Archive&) const override {}
-  bool load(Context&, const Reads&, int, Archive&) override { return false; }
 };
 
 }  // namespace

@@ -10,9 +10,8 @@ namespace {
 
 class BaselineStage : public Stage {
  public:
-  explicit BaselineStage(Baseline baseline) {
-    decl.name = std::string("baseline-") + baselineName(baseline);
-    decl.unit = Unit::Part;
+  explicit BaselineStage(Baseline baseline)
+      : Stage(std::string("baseline-") + baselineName(baseline), Unit::Part) {
     decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
     decl.options = {"baseline", "work_width"};
     decl.after = {"geometry", "align", "observe", "pin", "incident0"};

@@ -30,9 +30,7 @@ namespace {
 
 class BounceStage : public Stage {
  public:
-  BounceStage() {
-    decl.name = "bounce";
-    decl.unit = Unit::Global;
+  BounceStage() : Stage("bounce") {
     decl.options = {"preset", "library", "work_width", "fit_views"};
     decl.after = {"parts", "observe", "select", "fit", "incident1", "refine1"};
     decl.writes = {"PartWork: homogeneous albedo, albedoScale, albedoOffset, bounceFactor"};

@@ -309,8 +309,7 @@ namespace {
 
 class ExportStage : public Stage {
  public:
-  explicit ExportStage(std::vector<std::string> after) {
-    decl.name = "export";
+  explicit ExportStage(std::vector<std::string> after) : Stage("export") {
     // 9: fit.coarse_contrast_scale in the materials files
     decl.version = 9;
     decl.scene = {""};

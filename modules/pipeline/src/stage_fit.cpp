@@ -31,9 +31,7 @@ constexpr uint64_t kFitVersion = 13;
 
 class FitStage : public Stage {
  public:
-  FitStage() {
-    decl.name = "fit";
-    decl.unit = Unit::Part;
+  FitStage() : Stage("fit", Unit::Part) {
     decl.version = kFitVersion;
     decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
                   "options.seed"};

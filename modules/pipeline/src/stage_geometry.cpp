@@ -9,9 +9,7 @@ namespace {
 
 class GeometryStage : public Stage {
  public:
-  GeometryStage() {
-    decl.name = "geometry";
-    decl.unit = Unit::View;
+  GeometryStage() : Stage("geometry", Unit::View) {
     decl.scene = {"geometry", "up", "lights.area", "lights.auto_ceiling_spacing", "views[].camera"};
     decl.options = {"work_width"};
     decl.after = {"poses"};

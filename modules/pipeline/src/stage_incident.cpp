@@ -15,9 +15,8 @@ namespace {
 
 class IncidentStage : public Stage {
  public:
-  explicit IncidentStage(int round) : round_(round) {
-    decl.name = round == 0 ? "incident0" : "incident1";
-    decl.unit = Unit::View;
+  explicit IncidentStage(int round)
+      : Stage(round == 0 ? "incident0" : "incident1", Unit::View), round_(round) {
     decl.scene = {"geometry", "up", "lights", "views[].camera", "parts.{}.fixed", "options.seed"};
     decl.options = {"preset", "work_width", "baseline", "fit_views", "incident"};
     decl.after = {"parts", "geometry", "observe", "pin", "lights0"};

@@ -24,9 +24,7 @@ constexpr double kSaturation = 0.99;  ///< share of the clip level at which a pi
 
 class LightsStage : public Stage {
  public:
-  explicit LightsStage(int round) : round_(round) {
-    decl.name = round == 0 ? "lights0" : "lights1";
-    decl.unit = Unit::Global;
+  explicit LightsStage(int round) : Stage(round == 0 ? "lights0" : "lights1"), round_(round) {
     decl.scene = {"geometry",       "up",
                   "lights",         "views[].camera",
                   "views[].image",  "views[].color_space",

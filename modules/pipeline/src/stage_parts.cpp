@@ -8,15 +8,12 @@ namespace ps::pipeline {
 
 namespace {
 
-class PartsStage : public Stage {
+class PartsStage : public DerivedStage {
  public:
-  PartsStage() {
-    decl.name = "parts";
-    decl.unit = Unit::Part;
+  PartsStage() : DerivedStage("parts", Unit::Part) {
     decl.scene = {"geometry", "parts.{}.skip", "parts.{}.fixed", "lights.area[].part",
                   "lights.environment.window_parts"};
     decl.writes = {"PartWork::mode", "PartWork::skipped", "PartWork: the fixed material"};
-    decl.cached = false;
   }
 
   bool compute(Context& ctx, const Reads& in, int u) override {
@@ -43,8 +40,6 @@ class PartsStage : public Stage {
     }
     return true;
   }
-  void save(const Context&, int, Archive&) const override {}
-  bool load(Context&, const Reads&, int, Archive&) override { return false; }
 };
 
 }  // namespace

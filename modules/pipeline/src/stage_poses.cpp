@@ -12,8 +12,7 @@ namespace {
 
 class PosesStage : public Stage {
  public:
-  PosesStage() {
-    decl.name = "poses";
+  PosesStage() : Stage("poses") {
     decl.scene = {"geometry",
                   "up",
                   "lights.area",

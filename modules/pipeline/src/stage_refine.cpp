@@ -12,10 +12,8 @@ namespace {
 
 class RefineStage : public Stage {
  public:
-  explicit RefineStage(int round) {
-    decl.name = round == 0 ? "refine0" : "refine1";
+  explicit RefineStage(int round) : Stage(round == 0 ? "refine0" : "refine1", Unit::Part) {
     decl.record = "refine";
-    decl.unit = Unit::Part;
     decl.scene = {"views[].camera", "views[].image", "views[].color_space"};
     decl.options = {"preset", "library", "work_width", "fit_views"};
     decl.after = {"geometry", "align", "observe",

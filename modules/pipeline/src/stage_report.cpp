@@ -17,8 +17,7 @@ namespace {
 
 class MetricsStage : public Stage {
  public:
-  MetricsStage() {
-    decl.name = "metrics";
+  MetricsStage() : Stage("metrics") {
     decl.scene = {""};
     decl.options = {"preset", "eval_spp", "denoise", "ground_truth"};
     decl.after = {"export"};
@@ -60,8 +59,7 @@ class MetricsStage : public Stage {
 
 class ReportStage : public Stage {
  public:
-  ReportStage() {
-    decl.name = "report";
+  ReportStage() : Stage("report") {
     decl.outputs = {"metrics.json"};  // `photoscene eval` may have written it again
     decl.after = {"export", "metrics"};
     decl.writes = {"OUT/report.html", "OUT/viewer/*", "OUT/renders/view<i>_diff.png"};

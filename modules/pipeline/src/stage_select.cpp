@@ -16,9 +16,7 @@ namespace {
 
 class SelectStage : public Stage {
  public:
-  SelectStage() {
-    decl.name = "select";
-    decl.unit = Unit::Part;
+  SelectStage() : Stage("select", Unit::Part) {
     decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
                   "options.seed"};
     decl.options = {"library", "work_width", "preset", "selection"};

@@ -376,9 +376,7 @@ TEST(Stages_Runner, orders_by_declared_dependencies_and_refuses_unknown_ones) {
 // uses, as OUT/masks/view<i>_light.png.
 class LightMaskStage : public Stage {
  public:
-  LightMaskStage() {
-    decl.name = "light_mask";
-    decl.unit = Unit::View;
+  LightMaskStage() : Stage("light_mask", Unit::View) {
     decl.after = {"align"};  // reads ViewWork::lightMask
     decl.writes = {"OUT/masks/view<i>_light.png"};
   }
