@@ -346,6 +346,7 @@ TextureLossGradientCheck summarizeGradientCheck(const std::vector<double>& analy
     // truncation term is far smaller at these steps), which bounds what the check can resolve
     r.noise = std::max(r.noise, std::abs(numeric[i] - numeric2[i]));
   }
+  r.maxNumeric = maxNum;
   r.floor = std::max({1e-3 * maxNum, 2.0 * r.noise, 1e-12});
   for (size_t i = 0; i < numeric.size(); ++i) {
     const double e = std::abs(analytic[i] - numeric[i]);

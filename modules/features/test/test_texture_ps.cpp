@@ -33,38 +33,22 @@ TextureLossOptions onlyGroup(int group) {
 // entries of these statistics).
 double fdErrorOverLargest(const TextureLossTarget& target, const cv::Mat& render,
                           const std::vector<cv::Point>& pixels, double step) {
-  cv::Mat grad;
-  lossAndGradient(target, render, grad);
-  double maxErr = 0, maxNum = 0;
-  cv::Mat work = render.clone();
-  TextureLossParams q;
-  q.target = &target;
-  q.render = work;
-  for (const cv::Point& px : pixels)
-    for (int ch = 0; ch < 3; ++ch) {
-      float& v = work.at<cv::Vec3f>(px)[ch];
-      const float orig = v;
-      v = static_cast<float>(orig + step);
-      const double up = textureLossForward(q);
-      v = static_cast<float>(orig - step);
-      const double down = textureLossForward(q);
-      const double h = static_cast<double>(static_cast<float>(orig + step)) -
-                       static_cast<double>(static_cast<float>(orig - step));
-      v = orig;
-      const double num = (up - down) / h;
-      maxNum = std::max(maxNum, std::abs(num));
-      maxErr = std::max(maxErr, std::abs(num - grad.at<cv::Vec3f>(px)[ch]));
-    }
-  return maxNum > 0 ? maxErr / maxNum : maxErr;
+  const TextureLossGradientCheck c = checkTextureLossGradient(target, render, pixels, step);
+  return c.maxNumeric > 0 ? c.maxAbsError / c.maxNumeric : c.maxAbsError;
 }
 
 const char* kGroupNames[5] = {"autoLowpass", "autoMagnitude", "crossOrientation", "crossScale",
                               "color"};
 
-TEST(Features_TexturePs, layout_and_ranges) {
+// The default filter bank and joint statistics, and where each group sits in the vector.
+class Features_TexturePs : public ::testing::Test {
+ protected:
   const TextureDescriptorOptions d;
   const TexturePsOptions o;
   const TexturePsLayout L = texturePsLayout(d, o);
+};
+
+TEST_F(Features_TexturePs, layout_and_ranges) {
   EXPECT_EQ(texturePsLagCount(3), 24);
   EXPECT_EQ(L.autoMagnitude, 4 * 24);
   EXPECT_EQ(L.crossOrientation, L.autoMagnitude + 16 * 12);
@@ -90,12 +74,9 @@ TEST(Features_TexturePs, layout_and_ranges) {
 // is high for a grating of that period and low (negative) for one of twice the period, whose
 // half period that lag is. The marginal descriptor of two such gratings differs only in which
 // band holds the energy; here it is the sign of one number.
-TEST(Features_TexturePs, lowpass_autocorrelation_sees_the_period) {
+TEST_F(Features_TexturePs, lowpass_autocorrelation_sees_the_period) {
   const cv::Size size(128, 128);
   const cv::Mat mask = diskMask(size, {64, 64}, 60);
-  const TextureDescriptorOptions d;
-  const TexturePsOptions o;
-  const TexturePsLayout L = texturePsLayout(d, o);
   const std::vector<cv::Point> lags = {{1, 0}, {2, 0}, {3, 0}};
   // level 1 (every 2 pixels): lag (3, 0) = 6 pixels
   auto at = [&](const std::vector<float>& s, int level, cv::Point lag) {
@@ -124,12 +105,9 @@ TEST(Features_TexturePs, lowpass_autocorrelation_sees_the_period) {
 // (orientations 0 and 90 degrees) rise and fall together from one octave to the next, where the
 // lines are, while the diagonal bands' do much less; on isotropic noise every orientation is
 // alike.
-TEST(Features_TexturePs, cross_scale_correlation_follows_lines) {
+TEST_F(Features_TexturePs, cross_scale_correlation_follows_lines) {
   const cv::Size size(128, 128);
   const cv::Mat mask = diskMask(size, {64, 64}, 60);
-  const TextureDescriptorOptions d;
-  const TexturePsOptions o;
-  const TexturePsLayout L = texturePsLayout(d, o);
   cv::Mat grout(size, CV_32FC3, cv::Scalar::all(0.5));
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x)
@@ -149,12 +127,9 @@ TEST(Features_TexturePs, cross_scale_correlation_follows_lines) {
 
 // Colour: the opponent means and standard deviations scale with the image, the correlations do
 // not; a red-green texture has its variation in O1, a gray one none.
-TEST(Features_TexturePs, opponent_colour) {
+TEST_F(Features_TexturePs, opponent_colour) {
   const cv::Size size(64, 64);
   const cv::Mat mask = diskMask(size, {32, 32}, 30);
-  const TextureDescriptorOptions d;
-  const TexturePsOptions o;
-  const TexturePsLayout L = texturePsLayout(d, o);
   cv::Mat redGreen(size, CV_32FC3);
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x)
@@ -173,7 +148,7 @@ TEST(Features_TexturePs, opponent_colour) {
 
 // Each joint statistic's gradient alone, against central differences at interior, edge and
 // outside pixels (zero there), on an irregular mask.
-TEST(Features_TexturePs, each_group_gradient_matches_finite_differences) {
+TEST_F(Features_TexturePs, each_group_gradient_matches_finite_differences) {
   const cv::Size size(80, 72);
   cv::Mat mask = diskMask(size, {40, 36}, 28);
   cv::circle(mask, {44, 34}, 5, cv::Scalar(0), cv::FILLED);
@@ -205,7 +180,7 @@ TEST(Features_TexturePs, each_group_gradient_matches_finite_differences) {
 
 // All groups together with the descriptor's: the sum's gradient is still exact, and weights of
 // 0 leave the loss exactly as before.
-TEST(Features_TexturePs, combined_loss_and_defaults_unchanged) {
+TEST_F(Features_TexturePs, combined_loss_and_defaults_unchanged) {
   const cv::Size size(72, 64);
   const cv::Mat mask = diskMask(size, {36, 32}, 26);
   const cv::Mat photo = checker(size, 6);
@@ -232,7 +207,7 @@ TEST(Features_TexturePs, combined_loss_and_defaults_unchanged) {
 
 // One-pixel, corner, strip and full masks with black, saturated and high-contrast images: every
 // joint statistic and the placement loss stay finite, and so do their gradients.
-TEST(Features_TexturePs, stress_masks_and_images_stay_finite) {
+TEST_F(Features_TexturePs, stress_masks_and_images_stay_finite) {
   const cv::Size size(48, 40);
   cv::Mat onePixel = cv::Mat::zeros(size, CV_8UC1);
   onePixel.at<uint8_t>(20, 30) = 255;
@@ -279,7 +254,7 @@ TEST(Features_TexturePs, stress_masks_and_images_stay_finite) {
 // The key's pooled joint statistics: appended only with psWeight > 0, invariant to a per-channel
 // light scale and (exactly, on a square grid) to a 90-degree rotation, and they separate two
 // gratings whose marginal statistics are close: a sine and square bars of one period.
-TEST(Features_TexturePs, key_entries_invariant_and_telling) {
+TEST_F(Features_TexturePs, key_entries_invariant_and_telling) {
   TextureKeyOptions plain, withPs;
   withPs.psWeight = 1.0f;
   EXPECT_EQ(keyLength(withPs), keyLength(plain) + keyPsLength(withPs.descriptor));

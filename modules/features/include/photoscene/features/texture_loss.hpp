@@ -166,6 +166,7 @@ struct TextureLossGradientCheck {
   double maxRelError = 0.0;  ///< max |analytic - numeric| / max(|analytic|, |numeric|, floor)
   double floor = 0.0;        ///< the floor used: max(1e-3 * max |numeric|, 2 * noise)
   double noise = 0.0;        ///< max |numeric(step) - numeric(2 step)|: the float loss's round-off
+  double maxNumeric = 0.0;   ///< max |numeric|: the scale errors compare with
   int checked = 0;
 };
 /// Central differences with step `step` (linear units) on render(p)[c] for every p in pixels
