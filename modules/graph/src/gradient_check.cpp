@@ -130,6 +130,21 @@ GradientCheckReport checkGraphT(const MaterialGraph& graph, const GradientCheckO
   return rep;
 }
 
+/// A kernel context of node type t over the planes `in` and `outs` with parameters `par`.
+template <class T>
+NodeCtx<T> nodeCtx(const graphimpl::NodeType& t, int n, const std::vector<Plane<T>>& in,
+                   std::vector<Plane<T>>& outs, const std::vector<T>& par,
+                   std::vector<Plane<T>>& scratch) {
+  NodeCtx<T> c;
+  c.n = n;
+  for (const auto& p : in) c.in.push_back(&p);
+  for (auto& p : outs) c.out.push_back(&p);
+  c.param = par.data();
+  c.poff = t.offsets.data();
+  c.scratch = &scratch;
+  return c;
+}
+
 template <class T>
 GradientCheckReport checkNodeT(const graphimpl::NodeType& t, std::vector<double> params,
                                const GradientCheckOptions& o) {
@@ -152,16 +167,8 @@ GradientCheckReport checkNodeT(const graphimpl::NodeType& t, std::vector<double>
   }
   std::vector<T> pv(params.begin(), params.end());
   auto run = [&](const std::vector<Plane<T>>& in, const std::vector<T>& par) {
-    NodeCtx<T> c;
-    c.n = n;
-    for (const auto& p : in) c.in.push_back(&p);
-    for (size_t k = 0; k < outs.size(); ++k) {
-      outs[k].create(n, w[k].c);
-      c.out.push_back(&outs[k]);
-    }
-    c.param = par.data();
-    c.poff = t.offsets.data();
-    c.scratch = &scratch;
+    for (size_t k = 0; k < outs.size(); ++k) outs[k].create(n, w[k].c);
+    NodeCtx<T> c = nodeCtx(t, n, in, outs, par, scratch);
     t.forward<T>()(c);
     double L = 0;
     for (size_t k = 0; k < outs.size(); ++k)
@@ -172,18 +179,12 @@ GradientCheckReport checkNodeT(const graphimpl::NodeType& t, std::vector<double>
   std::vector<Plane<T>> dIn(ins.size());
   std::vector<T> dPar(pv.size(), T(0));
   {
-    NodeCtx<T> c;
-    c.n = n;
-    for (const auto& p : ins) c.in.push_back(&p);
-    for (auto& p : outs) c.out.push_back(&p);
+    NodeCtx<T> c = nodeCtx(t, n, ins, outs, pv, scratch);
     for (auto& p : w) c.dOut.push_back(&p);
     for (size_t k = 0; k < ins.size(); ++k) {
       dIn[k].zeros(n, ins[k].c);
       c.dIn.push_back(&dIn[k]);
     }
-    c.param = pv.data();
-    c.poff = t.offsets.data();
-    c.scratch = &scratch;
     c.dParam = dPar.data();
     t.backward<T>()(c);
   }

@@ -115,6 +115,12 @@ NodeType makeNodeType() {
   return t;
 }
 
+/// Appends makeNodeType<N>() for every N in Ns.
+template <class... Ns>
+void addNodeTypes(std::vector<NodeType>& out) {
+  (out.push_back(makeNodeType<Ns>()), ...);
+}
+
 /// The registry (built once, immutable).
 const std::vector<NodeType>& nodeTypes();
 const NodeType* findNodeType(const std::string& name);

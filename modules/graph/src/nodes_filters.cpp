@@ -33,6 +33,59 @@ void centralDiffAdjoint(const Plane<T>& Gx, const Plane<T>& Gy, Plane<T>& dh) {
       d[x] += s * (gx[(x - 1) & m] - gx[(x + 1) & m] + gyd[x] - gyu[x]);
   });
 }
+/// Backward through centralDiff of the gray plane h: for every pixel in order,
+/// pixel(x, y, gx, gy, Gx, Gy) sets Gx, Gy = d loss / d gx, d gy (left 0 when not set); then d loss
+/// / d h is accumulated into dh (when not null). Gx, Gy are kept in the node's scratch.
+template <class T, class F>
+void centralDiffBackward(NodeCtx<T>& c, const Plane<T>& h, Plane<T>* dh, F&& pixel) {
+  const int n = c.n;
+  c.scratch->resize(2);
+  Plane<T>& Gx = (*c.scratch)[0];
+  Plane<T>& Gy = (*c.scratch)[1];
+  Gx.zeros(n, 1);
+  Gy.zeros(n, 1);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      T gx, gy;
+      centralDiff(h, x, y, gx, gy);
+      pixel(x, y, gx, gy, Gx.at(x, y), Gy.at(x, y));
+    }
+  if (dh) centralDiffAdjoint(Gx, Gy, *dh);
+}
+
+/// Derivatives of the loss through out(x, y) = in0(sx, sy) (sampleBilinear) in the sample
+/// position: Dx = sum over channels of d loss / d out * d in0 / d sx, Dy likewise.
+template <class T>
+void sampleGradient(const NodeCtx<T>& c, int x, int y, T sx, T sy, T& Dx, T& Dy) {
+  T tmp[3], sgx[3], sgy[3];
+  sampleBilinear(*c.in[0], sx, sy, tmp, sgx, sgy);
+  const T* g = c.dOut[0]->ptr(x, y);
+  Dx = 0, Dy = 0;
+  for (int q = 0; q < c.out[0]->c; ++q) Dx += g[q] * sgx[q], Dy += g[q] * sgy[q];
+}
+
+/// The loops of a point operation on input 0 (per value, any channel count). mapValues: out =
+/// f(in), rows in parallel. visitValueGradients: body(a, g, da) for every value in order, a the
+/// input, g = d loss / d out, da the input's gradient to accumulate into (null when not needed).
+template <class T, class F>
+void mapValues(NodeCtx<T>& c, F&& f) {
+  const int len = c.n * c.out[0]->c;
+  forRows(c.n, [&](int y) {
+    const T* a = c.in[0]->row(y);
+    T* o = c.out[0]->row(y);
+    for (int i = 0; i < len; ++i) o[i] = f(a[i]);
+  });
+}
+template <class T, class F>
+void visitValueGradients(NodeCtx<T>& c, F&& body) {
+  const int len = c.n * c.out[0]->c;
+  for (int y = 0; y < c.n; ++y) {
+    const T* a = c.in[0]->row(y);
+    const T* g = c.dOut[0]->row(y);
+    T* da = c.dIn[0] ? c.dIn[0]->row(y) : nullptr;
+    for (int i = 0; i < len; ++i) body(a[i], g[i], da ? da + i : nullptr);
+  }
+}
 
 // ---------------------------------------------------------------- blend
 struct Blend {
@@ -164,19 +217,11 @@ struct Levels {
   static void forward(NodeCtx<T>& c) {
     const T il = c.P(kInLow), d = den(c), ig = T(1) / c.P(kGamma), ol = c.P(kOutLow),
             oh = c.P(kOutHigh);
-    const int len = c.n * c.out[0]->c;
-    forRows(c.n, [&](int y) {
-      const T* a = c.in[0]->row(y);
-      T* o = c.out[0]->row(y);
-      if (ig == T(1)) {
-        for (int i = 0; i < len; ++i) o[i] = ol + (oh - ol) * std::max(clamp01((a[i] - il) / d), T(1e-4));
-      } else {
-        for (int i = 0; i < len; ++i) {
-          const T t = std::max(clamp01((a[i] - il) / d), T(1e-4));
-          o[i] = ol + (oh - ol) * std::pow(t, ig);
-        }
-      }
-    });
+    auto t = [&](T a) { return std::max(clamp01((a - il) / d), T(1e-4)); };
+    if (ig == T(1))  // no pow
+      mapValues(c, [&](T a) { return ol + (oh - ol) * t(a); });
+    else
+      mapValues(c, [&](T a) { return ol + (oh - ol) * std::pow(t(a), ig); });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
@@ -184,30 +229,24 @@ struct Levels {
             ol = c.P(kOutLow), oh = c.P(kOutHigh);
     const bool guarded = std::abs(ih - il) < T(1e-4);
     const bool unit = ig == T(1), wantGamma = c.wantP(kGamma);  // no pow / log unless needed
-    const int len = c.n * c.out[0]->c;
     T dil = 0, dih = 0, dgm = 0, dol = 0, doh = 0;
-    for (int y = 0; y < c.n; ++y) {
-      const T* a = c.in[0]->row(y);
-      const T* g = c.dOut[0]->row(y);
-      T* da = c.dIn[0] ? c.dIn[0]->row(y) : nullptr;
-      for (int i = 0; i < len; ++i) {
-        const T t = (a[i] - il) / d;
-        const T te = std::max(clamp01(t), T(1e-4));
-        const T p = unit ? te : std::pow(te, ig);
-        dol += g[i] * (1 - p);
-        doh += g[i] * p;
-        const T gp = g[i] * (oh - ol);
-        if (wantGamma) dgm += gp * p * std::log(te) * (-ig * ig);
-        if (t > T(1e-4) && t < 1) {
-          const T gt = gp * ig * p / te;
-          if (da) da[i] += gt / d;
-          if (!guarded) {
-            dil += gt * (a[i] - ih) / (d * d);
-            dih -= gt * (a[i] - il) / (d * d);
-          }
+    visitValueGradients(c, [&](T a, T g, T* da) {
+      const T t = (a - il) / d;
+      const T te = std::max(clamp01(t), T(1e-4));
+      const T p = unit ? te : std::pow(te, ig);
+      dol += g * (1 - p);
+      doh += g * p;
+      const T gp = g * (oh - ol);
+      if (wantGamma) dgm += gp * p * std::log(te) * (-ig * ig);
+      if (t > T(1e-4) && t < 1) {
+        const T gt = gp * ig * p / te;
+        if (da) *da += gt / d;
+        if (!guarded) {
+          dil += gt * (a - ih) / (d * d);
+          dih -= gt * (a - il) / (d * d);
         }
       }
-    }
+    });
     c.dP(kInLow) += dil;
     c.dP(kInHigh) += dih;
     c.dP(kGamma) += dgm;
@@ -232,35 +271,24 @@ struct Curve {
   static void forward(NodeCtx<T>& c) {
     T p[5];
     for (int k = 0; k < 5; ++k) p[k] = c.P(k);
-    const int len = c.n * c.out[0]->c;
-    forRows(c.n, [&](int y) {
-      const T* a = c.in[0]->row(y);
-      T* o = c.out[0]->row(y);
-      for (int i = 0; i < len; ++i) {
-        const T t = clamp01(a[i]) * 4;
-        const int s = std::min(3, int(t));
-        o[i] = p[s] + (t - s) * (p[s + 1] - p[s]);
-      }
+    mapValues(c, [&](T a) {
+      const T t = clamp01(a) * 4;
+      const int s = std::min(3, int(t));
+      return p[s] + (t - s) * (p[s + 1] - p[s]);
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
     T p[5], dp[5] = {0, 0, 0, 0, 0};
     for (int k = 0; k < 5; ++k) p[k] = c.P(k);
-    const int len = c.n * c.out[0]->c;
-    for (int y = 0; y < c.n; ++y) {
-      const T* a = c.in[0]->row(y);
-      const T* g = c.dOut[0]->row(y);
-      T* da = c.dIn[0] ? c.dIn[0]->row(y) : nullptr;
-      for (int i = 0; i < len; ++i) {
-        const T t = clamp01(a[i]) * 4;
-        const int s = std::min(3, int(t));
-        const T f = t - s;
-        dp[s] += g[i] * (1 - f);
-        dp[s + 1] += g[i] * f;
-        if (da && a[i] > 0 && a[i] < 1) da[i] += g[i] * 4 * (p[s + 1] - p[s]);
-      }
-    }
+    visitValueGradients(c, [&](T a, T g, T* da) {
+      const T t = clamp01(a) * 4;
+      const int s = std::min(3, int(t));
+      const T f = t - s;
+      dp[s] += g * (1 - f);
+      dp[s + 1] += g * f;
+      if (da && a > 0 && a < 1) *da += g * 4 * (p[s + 1] - p[s]);
+    });
     for (int k = 0; k < 5; ++k) c.dP(k) += dp[k];
   }
 };
@@ -630,29 +658,18 @@ struct Warp {
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, ch = c.out[0]->c;
+    const int n = c.n;
     const T k = c.P(kIntensity);
-    c.scratch->resize(2);
-    Plane<T>& Gx = (*c.scratch)[0];
-    Plane<T>& Gy = (*c.scratch)[1];
-    Gx.zeros(n, 1);
-    Gy.zeros(n, 1);
-    T dk = 0, tmp[3], sgx[3], sgy[3];
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        T gx, gy;
-        centralDiff(*c.in[1], x, y, gx, gy);
-        const T sx = T(x) + k * gx * T(n), sy = T(y) - k * gy * T(n);
-        sampleBilinear(*c.in[0], sx, sy, tmp, sgx, sgy);
-        const T* g = c.dOut[0]->ptr(x, y);
-        T Dx = 0, Dy = 0;
-        for (int q = 0; q < ch; ++q) Dx += g[q] * sgx[q], Dy += g[q] * sgy[q];
-        dk += Dx * gx * T(n) - Dy * gy * T(n);
-        Gx.at(x, y) = Dx * k * T(n);
-        Gy.at(x, y) = -Dy * k * T(n);
-        if (c.dIn[0]) scatterBilinear(*c.dIn[0], sx, sy, g);
-      }
-    if (c.dIn[1]) centralDiffAdjoint(Gx, Gy, *c.dIn[1]);
+    T dk = 0;
+    centralDiffBackward(c, *c.in[1], c.dIn[1], [&](int x, int y, T gx, T gy, T& Gx, T& Gy) {
+      const T sx = T(x) + k * gx * T(n), sy = T(y) - k * gy * T(n);
+      T Dx, Dy;
+      sampleGradient(c, x, y, sx, sy, Dx, Dy);
+      dk += Dx * gx * T(n) - Dy * gy * T(n);
+      Gx = Dx * k * T(n);
+      Gy = -Dy * k * T(n);
+      if (c.dIn[0]) scatterBilinear(*c.dIn[0], sx, sy, c.dOut[0]->ptr(x, y));
+    });
     c.dP(kIntensity) += dk;
   }
 };
@@ -681,23 +698,21 @@ struct DirectionalWarp {
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, ch = c.out[0]->c;
+    const int n = c.n;
     const T th = c.P(kAngle) * T(kTwoPi), k = c.P(kIntensity);
     const T cs = std::cos(th), sn = std::sin(th);
     const T ox = k * cs * T(n), oy = -k * sn * T(n);
-    T dk = 0, dth = 0, tmp[3], sgx[3], sgy[3];
+    T dk = 0, dth = 0;
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const T h = c.in[1]->at(x, y);
         const T sx = T(x) + h * ox, sy = T(y) + h * oy;
-        sampleBilinear(*c.in[0], sx, sy, tmp, sgx, sgy);
-        const T* g = c.dOut[0]->ptr(x, y);
-        T Dx = 0, Dy = 0;
-        for (int q = 0; q < ch; ++q) Dx += g[q] * sgx[q], Dy += g[q] * sgy[q];
+        T Dx, Dy;
+        sampleGradient(c, x, y, sx, sy, Dx, Dy);
         if (c.dIn[1]) c.dIn[1]->at(x, y) += Dx * ox + Dy * oy;
         dk += h * T(n) * (Dx * cs - Dy * sn);
         dth += -h * k * T(n) * (Dx * sn + Dy * cs);
-        if (c.dIn[0]) scatterBilinear(*c.dIn[0], sx, sy, g);
+        if (c.dIn[0]) scatterBilinear(*c.dIn[0], sx, sy, c.dOut[0]->ptr(x, y));
       }
     c.dP(kIntensity) += dk;
     c.dP(kAngle) += dth * T(kTwoPi);
@@ -846,26 +861,16 @@ struct EdgeDetect {
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n;
     const T s = c.P(kStrength);
-    c.scratch->resize(2);
-    Plane<T>& Gx = (*c.scratch)[0];
-    Plane<T>& Gy = (*c.scratch)[1];
-    Gx.zeros(n, 1);
-    Gy.zeros(n, 1);
     T ds = 0;
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        T gx, gy;
-        centralDiff(*c.in[0], x, y, gx, gy);
-        const T m = std::sqrt(gx * gx + gy * gy + T(1e-12));
-        if (s * m >= 1) continue;
-        const T g = c.dOut[0]->at(x, y);
-        ds += g * m;
-        Gx.at(x, y) = g * s * gx / m;
-        Gy.at(x, y) = g * s * gy / m;
-      }
-    if (c.dIn[0]) centralDiffAdjoint(Gx, Gy, *c.dIn[0]);
+    centralDiffBackward(c, *c.in[0], c.dIn[0], [&](int x, int y, T gx, T gy, T& Gx, T& Gy) {
+      const T m = std::sqrt(gx * gx + gy * gy + T(1e-12));
+      if (s * m >= 1) return;
+      const T g = c.dOut[0]->at(x, y);
+      ds += g * m;
+      Gx = g * s * gx / m;
+      Gy = g * s * gy / m;
+    });
     c.dP(kStrength) += ds;
   }
 };
@@ -885,30 +890,19 @@ struct HistogramScan {
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const T c0 = 1 - c.P(kPos), w = 1 - c.P(kContrast);
-    const int len = c.n * c.out[0]->c;
-    forRows(c.n, [&](int y) {
-      const T* a = c.in[0]->row(y);
-      T* o = c.out[0]->row(y);
-      for (int i = 0; i < len; ++i) o[i] = clamp01((a[i] - c0) / w + T(0.5));
-    });
+    mapValues(c, [&](T a) { return clamp01((a - c0) / w + T(0.5)); });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
     const T c0 = 1 - c.P(kPos), w = 1 - c.P(kContrast);
-    const int len = c.n * c.out[0]->c;
     T dp = 0, dc = 0;
-    for (int y = 0; y < c.n; ++y) {
-      const T* a = c.in[0]->row(y);
-      const T* g = c.dOut[0]->row(y);
-      T* da = c.dIn[0] ? c.dIn[0]->row(y) : nullptr;
-      for (int i = 0; i < len; ++i) {
-        const T z = (a[i] - c0) / w + T(0.5);
-        if (z <= 0 || z >= 1) continue;
-        if (da) da[i] += g[i] / w;
-        dp += g[i] / w;
-        dc += g[i] * (a[i] - c0) / (w * w);
-      }
-    }
+    visitValueGradients(c, [&](T a, T g, T* da) {
+      const T z = (a - c0) / w + T(0.5);
+      if (z <= 0 || z >= 1) return;
+      if (da) *da += g / w;
+      dp += g / w;
+      dc += g * (a - c0) / (w * w);
+    });
     c.dP(kPos) += dp;
     c.dP(kContrast) += dc;
   }
@@ -920,16 +914,11 @@ struct Invert {
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    auto& o = c.out[0]->d;
-    const auto& a = c.in[0]->d;
-    for (size_t i = 0; i < o.size(); ++i) o[i] = 1 - a[i];
+    mapValues(c, [](T a) { return 1 - a; });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    if (!c.dIn[0]) return;
-    auto& d = c.dIn[0]->d;
-    const auto& g = c.dOut[0]->d;
-    for (size_t i = 0; i < d.size(); ++i) d[i] -= g[i];
+    if (c.dIn[0]) visitValueGradients(c, [](T, T g, T* da) { *da -= g; });
   }
 };
 
@@ -942,22 +931,21 @@ struct Clamp {
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const T lo = c.P(kLow), hi = c.P(kHigh);
-    auto& o = c.out[0]->d;
-    const auto& a = c.in[0]->d;
-    for (size_t i = 0; i < o.size(); ++i) o[i] = std::min(std::max(a[i], lo), hi);
+    mapValues(c, [&](T a) { return std::min(std::max(a, lo), hi); });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
     const T lo = c.P(kLow), hi = c.P(kHigh);
-    const auto& a = c.in[0]->d;
-    const auto& g = c.dOut[0]->d;
     T dlo = 0, dhi = 0;
-    for (size_t i = 0; i < a.size(); ++i) {
-      const T v = std::max(a[i], lo);
-      if (v >= hi) dhi += g[i];
-      else if (a[i] <= lo) dlo += g[i];
-      else if (c.dIn[0]) c.dIn[0]->d[i] += g[i];
-    }
+    visitValueGradients(c, [&](T a, T g, T* da) {
+      const T v = std::max(a, lo);
+      if (v >= hi)
+        dhi += g;
+      else if (a <= lo)
+        dlo += g;
+      else if (da)
+        *da += g;
+    });
     c.dP(kLow) += dlo;
     c.dP(kHigh) += dhi;
   }
@@ -989,22 +977,8 @@ struct Grayscale {
 }  // namespace
 
 void addFilterNodes(std::vector<NodeType>& out) {
-  out.push_back(makeNodeType<Blend>());
-  out.push_back(makeNodeType<Levels>());
-  out.push_back(makeNodeType<Curve>());
-  out.push_back(makeNodeType<Hsl>());
-  out.push_back(makeNodeType<GradientMap>());
-  out.push_back(makeNodeType<Blur>());
-  out.push_back(makeNodeType<DirectionalBlur>());
-  out.push_back(makeNodeType<Warp>());
-  out.push_back(makeNodeType<DirectionalWarp>());
-  out.push_back(makeNodeType<Transform>());
-  out.push_back(makeNodeType<Normal>());
-  out.push_back(makeNodeType<EdgeDetect>());
-  out.push_back(makeNodeType<HistogramScan>());
-  out.push_back(makeNodeType<Invert>());
-  out.push_back(makeNodeType<Clamp>());
-  out.push_back(makeNodeType<Grayscale>());
+  addNodeTypes<Blend, Levels, Curve, Hsl, GradientMap, Blur, DirectionalBlur, Warp, DirectionalWarp,
+               Transform, Normal, EdgeDetect, HistogramScan, Invert, Clamp, Grayscale>(out);
 }
 
 const std::vector<NodeType>& nodeTypes() {

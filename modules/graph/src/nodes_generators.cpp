@@ -25,49 +25,102 @@ template <class T>
 inline T smooth3d(T t) {
   return T(6) * t * (T(1) - t);
 }
+/// Position of texture coordinate t (u or v) in its cell of `count` cells per unit, in
+/// [-0.5, 0.5).
+template <class T>
+inline T cellCoord(T t, int count) {
+  return fracT(t * T(count)) - T(0.5);
+}
 
-// ---------------------------------------------------------------- uniform
-struct UniformGray {
-  static NodeTypeDesc desc() {
-    return {"uniform_gray",
-            "A constant gray value.",
-            {},
-            {{"out", 1}},
-            {pCont("value", 0, 1, 0.5f, "the value")}};
+/// The pixel loops of a generator with one gray output. `row(y)` computes what pixel row y shares
+/// and returns the row's pixel function. writeRows: out(x, y) = pixel(x), rows in parallel.
+/// visitRowGradients: pixel(x, g) with g = d loss / d out(x, y), every row and pixel in order (a
+/// fixed summation order for the parameter gradients).
+template <class T, class Row>
+void writeRows(NodeCtx<T>& c, Row&& row) {
+  forRows(c.n, [&](int y) {
+    T* o = c.out[0]->row(y);
+    const auto pixel = row(y);
+    for (int x = 0; x < c.n; ++x) o[x] = pixel(x);
+  });
+}
+template <class T, class Row>
+void visitRowGradients(NodeCtx<T>& c, Row&& row) {
+  for (int y = 0; y < c.n; ++y) {
+    const T* g = c.dOut[0]->row(y);
+    const auto pixel = row(y);
+    for (int x = 0; x < c.n; ++x) pixel(x, g[x]);
   }
+}
+/// The same loops over cell positions (lx, ly) = (cellCoord(u), cellCoord(v)) of count x count
+/// cells: out = value(lx, ly), and body(g, lx, ly).
+template <class T, class F>
+void writeCells(NodeCtx<T>& c, int count, F&& value) {
+  writeRows(c, [&](int y) {
+    const T ly = cellCoord(vCoord<T>(y, c.n), count);
+    return [&, ly](int x) { return value(cellCoord(uCoord<T>(x, c.n), count), ly); };
+  });
+}
+template <class T, class F>
+void visitCellGradients(NodeCtx<T>& c, int count, F&& body) {
+  visitRowGradients(c, [&](int y) {
+    const T ly = cellCoord(vCoord<T>(y, c.n), count);
+    return [&, ly](int x, T g) { body(g, cellCoord(uCoord<T>(x, c.n), count), ly); };
+  });
+}
+
+/// A linear edge: 1 within width / 2 of a center (d: distance to it), 0 beyond, a ramp `soft`
+/// wide between; softEdgeAdjoint accumulates g times its partials in width and soft.
+template <class T>
+inline T softEdge(T width, T d, T soft) {
+  return clamp01((T(0.5) * width - d) / soft + T(0.5));
+}
+template <class T>
+inline void softEdgeAdjoint(T g, T width, T d, T soft, T& dWidth, T& dSoft) {
+  const T z = (T(0.5) * width - d) / soft + T(0.5);
+  if (z > 0 && z < 1) {
+    dWidth += g * T(0.5) / soft;
+    dSoft -= g * (T(0.5) * width - d) / (soft * soft);
+  }
+}
+
+/// Base of the node types without continuous parameters or inputs: nothing to differentiate.
+struct NoGradient {
   template <class T>
-  static void forward(NodeCtx<T>& c) {
-    std::fill(c.out[0]->d.begin(), c.out[0]->d.end(), c.P(0));
-  }
-  template <class T>
-  static void backward(NodeCtx<T>& c) {
-    T s = 0;
-    for (T g : c.dOut[0]->d) s += g;
-    c.dP(0) += s;
-  }
+  static void backward(NodeCtx<T>&) {}
 };
 
-struct UniformColor {
+// ---------------------------------------------------------------- uniform
+/// uniform_gray (C = 1) and uniform_color (C = 3): every pixel is parameter 0.
+template <int C>
+struct Uniform {
   static NodeTypeDesc desc() {
-    return {"uniform_color",
-            "A constant linear RGB color.",
-            {},
-            {{"out", 3}},
-            {pColor("color", 0.5f, 0.5f, 0.5f, "linear RGB")}};
+    if constexpr (C == 1)
+      return {"uniform_gray",
+              "A constant gray value.",
+              {},
+              {{"out", 1}},
+              {pCont("value", 0, 1, 0.5f, "the value")}};
+    else
+      return {"uniform_color",
+              "A constant linear RGB color.",
+              {},
+              {{"out", 3}},
+              {pColor("color", 0.5f, 0.5f, 0.5f, "linear RGB")}};
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
     auto& o = c.out[0]->d;
-    for (size_t i = 0; i < o.size(); i += 3)
-      for (int k = 0; k < 3; ++k) o[i + k] = c.P(0, k);
+    for (size_t i = 0; i < o.size(); i += C)
+      for (int k = 0; k < C; ++k) o[i + k] = c.P(0, k);
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
     const auto& g = c.dOut[0]->d;
-    T s[3] = {0, 0, 0};
-    for (size_t i = 0; i < g.size(); i += 3)
-      for (int k = 0; k < 3; ++k) s[k] += g[i + k];
-    for (int k = 0; k < 3; ++k) c.dP(0, k) += s[k];
+    T s[C] = {};
+    for (size_t i = 0; i < g.size(); i += C)
+      for (int k = 0; k < C; ++k) s[k] += g[i + k];
+    for (int k = 0; k < C; ++k) c.dP(0, k) += s[k];
   }
 };
 
@@ -251,7 +304,7 @@ struct Fbm {
 };
 
 // ---------------------------------------------------------------- value noise / white noise
-struct ValueNoise {
+struct ValueNoise : NoGradient {
   enum { kScale, kOctaves, kSeed };
   static NodeTypeDesc desc() {
     return {"value_noise",
@@ -293,11 +346,9 @@ struct ValueNoise {
       for (int x = 0; x < n; ++x) o[x] /= norm;
     });
   }
-  template <class T>
-  static void backward(NodeCtx<T>&) {}
 };
 
-struct WhiteNoise {
+struct WhiteNoise : NoGradient {
   enum { kScale, kSeed };
   static NodeTypeDesc desc() {
     return {"white_noise",
@@ -310,17 +361,14 @@ struct WhiteNoise {
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, s = c.I(kScale);
     const uint32_t seed = uint32_t(c.I(kSeed));
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
+    writeRows(c, [&](int y) {
       const int iy = std::min(s - 1, int(vCoord<T>(y, n) * T(s)));
-      for (int x = 0; x < n; ++x) {
+      return [&, iy](int x) {
         const int ix = std::min(s - 1, int(uCoord<T>(x, n) * T(s)));
-        o[x] = hashf(ix, iy, seed);
-      }
+        return T(hashf(ix, iy, seed));
+      };
     });
   }
-  template <class T>
-  static void backward(NodeCtx<T>&) {}
 };
 
 // ---------------------------------------------------------------- voronoi
@@ -337,9 +385,12 @@ struct Voronoi {
              pCont("jitter", 0, 1, 0.9f, "how far points move from cell centers"),
              pChoice("mode", {"f1", "f2_minus_f1", "cell_value"}, 0, "what to output"), pSeed()}};
   }
+  /// The two nearest points of a position (px, py) in cell units: distances d, wrapped cells b,
+  /// positions f and random offsets h of the nearest (1) and second nearest (2).
+  template <class T>
   struct Hit {
-    double d1, d2;
-    int c1x, c1y, c2x, c2y;
+    T px, py, d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
+    int b1[2] = {0, 0}, b2[2] = {0, 0};
   };
   /// The random point offsets of the lattice rows cy-1..cy+1, columns -1..s (3 x (s+2) cells),
   /// built once per lattice row instead of 9 cells x 2 hashes per pixel.
@@ -359,8 +410,11 @@ struct Voronoi {
     }
   };
   template <class T>
-  static void search(T px, T py, int s, T jitter, uint32_t seed, T& d1, T& d2, int* b1, int* b2,
-                     T* f1, T* f2, T* h1, T* h2, const RowTable<T>* tab = nullptr) {
+  static void search(Hit<T>& r, int s, T jitter, uint32_t seed, const RowTable<T>* tab) {
+    const T px = r.px, py = r.py;
+    T &d1 = r.d1, &d2 = r.d2;
+    int *b1 = r.b1, *b2 = r.b2;
+    T *f1 = r.f1, *f2 = r.f2, *h1 = r.h1, *h2 = r.h2;
     const int cx = int(std::floor(px)), cy = int(std::floor(py));
     if (tab && tab->cy != cy) tab = nullptr;
     d1 = d2 = T(1e9);
@@ -395,63 +449,59 @@ struct Voronoi {
         }
       }
   }
-  template <class T>
-  static void forward(NodeCtx<T>& c) {
-    const int n = c.n, s = c.I(kScale), mode = c.I(kMode);
+  /// Calls f(x, y, hit) with the nearest points of every pixel of rows [ya, yb), in order.
+  template <class T, class F>
+  static void searchRows(const NodeCtx<T>& c, int ya, int yb, F&& f) {
+    const int n = c.n, s = c.I(kScale);
     const T jit = c.P(kJitter);
     const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
     const bool useTab = s <= 2 * n;
-    forRowRanges(n, [&](int ya, int yb) {
-      RowTable<T> tab;
-      for (int y = ya; y < yb; ++y) {
-        T* o = c.out[0]->row(y);
-        const T py = vCoord<T>(y, n) * T(s);
-        const int cy = int(std::floor(py));
-        if (useTab && tab.cy != cy) tab.build(cy, s, seed);
-        for (int x = 0; x < n; ++x) {
-          const T px = uCoord<T>(x, n) * T(s);
-          T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
-          int b1[2] = {0, 0}, b2[2] = {0, 0};
-          search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2, useTab ? &tab : nullptr);
-          o[x] = mode == 0 ? d1 : mode == 1 ? d2 - d1 : T(hashf(b1[0], b1[1], seed + 5));
-        }
+    RowTable<T> tab;
+    for (int y = ya; y < yb; ++y) {
+      const T py = vCoord<T>(y, n) * T(s);
+      const int cy = int(std::floor(py));
+      if (useTab && tab.cy != cy) tab.build(cy, s, seed);
+      for (int x = 0; x < n; ++x) {
+        Hit<T> r;
+        r.px = uCoord<T>(x, n) * T(s);
+        r.py = py;
+        search(r, s, jit, seed, useTab ? &tab : nullptr);
+        f(x, y, r);
       }
+    }
+  }
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int mode = c.I(kMode);
+    const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
+    forRowRanges(c.n, [&](int ya, int yb) {
+      searchRows(c, ya, yb, [&](int x, int y, const Hit<T>& r) {
+        c.out[0]->at(x, y) = mode == 0   ? r.d1
+                             : mode == 1 ? r.d2 - r.d1
+                                         : T(hashf(r.b1[0], r.b1[1], seed + 5));
+      });
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, s = c.I(kScale), mode = c.I(kMode);
-    if (mode == 2) return;
-    const T jit = c.P(kJitter);
-    const uint32_t seed = uint32_t(c.I(kSeed)) * 7u;
-    if (!c.wantP(kJitter)) return;
+    const int mode = c.I(kMode);
+    if (mode == 2 || !c.wantP(kJitter)) return;
     T acc = 0;
-    const bool useTab = s <= 2 * n;
-    RowTable<T> tab;
-    for (int y = 0; y < n; ++y) {
-      const T py = vCoord<T>(y, n) * T(s);
-      const T* g = c.dOut[0]->row(y);
-      const int cy = int(std::floor(py));
-      if (useTab && tab.cy != cy) tab.build(cy, s, seed);
-      for (int x = 0; x < n; ++x) {
-        const T px = uCoord<T>(x, n) * T(s);
-        T d1, d2, f1[2] = {0, 0}, f2[2] = {0, 0}, h1[2] = {0, 0}, h2[2] = {0, 0};
-        int b1[2] = {0, 0}, b2[2] = {0, 0};
-        search(px, py, s, jit, seed, d1, d2, b1, b2, f1, f2, h1, h2, useTab ? &tab : nullptr);
-        auto dd = [&](T d, const T* f, const T* h) {
-          if (d < T(1e-9)) return T(0);
-          return -((px - f[0]) * (h[0] - T(0.5)) + (py - f[1]) * (h[1] - T(0.5))) / d;
-        };
-        const T g1 = dd(d1, f1, h1);
-        acc += g[x] * (mode == 0 ? g1 : dd(d2, f2, h2) - g1);
-      }
-    }
+    searchRows(c, 0, c.n, [&](int x, int y, const Hit<T>& r) {
+      // d distance / d jitter of the nearest and second nearest points
+      auto dd = [&](T d, const T* f, const T* h) {
+        if (d < T(1e-9)) return T(0);
+        return -((r.px - f[0]) * (h[0] - T(0.5)) + (r.py - f[1]) * (h[1] - T(0.5))) / d;
+      };
+      const T g1 = dd(r.d1, r.f1, r.h1);
+      acc += c.dOut[0]->at(x, y) * (mode == 0 ? g1 : dd(r.d2, r.f2, r.h2) - g1);
+    });
     c.dP(kJitter) += acc;
   }
 };
 
 // ---------------------------------------------------------------- gradients
-struct GradientLinear {
+struct GradientLinear : NoGradient {
   enum { kDir, kRepeats, kShape };
   static NodeTypeDesc desc() {
     return {"gradient_linear",
@@ -465,16 +515,13 @@ struct GradientLinear {
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, dir = c.I(kDir), rep = c.I(kRepeats), tri = c.I(kShape);
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      for (int x = 0; x < n; ++x) {
+    writeRows(c, [&](int y) {
+      return [&, y](int x) {
         const T t = fracT((dir == 0 ? uCoord<T>(x, n) : vCoord<T>(y, n)) * T(rep));
-        o[x] = tri ? T(1) - std::abs(T(2) * t - T(1)) : t;
-      }
+        return tri ? T(1) - std::abs(T(2) * t - T(1)) : t;
+      };
     });
   }
-  template <class T>
-  static void backward(NodeCtx<T>&) {}
 };
 
 struct GradientRadial {
@@ -490,32 +537,20 @@ struct GradientRadial {
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    const int n = c.n, cnt = c.I(kCount);
     const T rad = c.P(kRadius);
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
-      for (int x = 0; x < n; ++x) {
-        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
-        o[x] = clamp01(T(1) - T(2) * std::sqrt(lx * lx + ly * ly) / rad);
-      }
+    writeCells(c, c.I(kCount), [&](T lx, T ly) {
+      return clamp01(T(1) - T(2) * std::sqrt(lx * lx + ly * ly) / rad);
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, cnt = c.I(kCount);
     const T rad = c.P(kRadius);
     T acc = 0;
-    for (int y = 0; y < n; ++y) {
-      const T* g = c.dOut[0]->row(y);
-      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
-      for (int x = 0; x < n; ++x) {
-        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
-        const T r = T(2) * std::sqrt(lx * lx + ly * ly);
-        const T z = T(1) - r / rad;
-        if (z > 0 && z < 1) acc += g[x] * r / (rad * rad);
-      }
-    }
+    visitCellGradients(c, c.I(kCount), [&](T g, T lx, T ly) {
+      const T r = T(2) * std::sqrt(lx * lx + ly * ly);
+      const T z = T(1) - r / rad;
+      if (z > 0 && z < 1) acc += g * r / (rad * rad);
+    });
     c.dP(kRadius) += acc;
   }
 };
@@ -548,17 +583,18 @@ struct Stripes {
         return u - v;
     }
   }
+  /// Distance to the nearest stripe center, in periods.
+  template <class T>
+  static T distance(int dir, int count, T u, T v) {
+    return std::abs(fracT(phase(dir, u, v) * T(count)) - T(0.5));
+  }
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, cnt = c.I(kCount), dir = c.I(kDir);
     const T w = c.P(kWidth), s = c.P(kSoft);
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
+    writeRows(c, [&](int y) {
       const T v = vCoord<T>(y, n);
-      for (int x = 0; x < n; ++x) {
-        const T e = std::abs(fracT(phase(dir, uCoord<T>(x, n), v) * T(cnt)) - T(0.5));
-        o[x] = clamp01((T(0.5) * w - e) / s + T(0.5));
-      }
+      return [&, v](int x) { return softEdge(w, distance(dir, cnt, uCoord<T>(x, n), v), s); };
     });
   }
   template <class T>
@@ -566,18 +602,12 @@ struct Stripes {
     const int n = c.n, cnt = c.I(kCount), dir = c.I(kDir);
     const T w = c.P(kWidth), s = c.P(kSoft);
     T dw = 0, ds = 0;
-    for (int y = 0; y < n; ++y) {
-      const T* g = c.dOut[0]->row(y);
+    visitRowGradients(c, [&](int y) {
       const T v = vCoord<T>(y, n);
-      for (int x = 0; x < n; ++x) {
-        const T e = std::abs(fracT(phase(dir, uCoord<T>(x, n), v) * T(cnt)) - T(0.5));
-        const T z = (T(0.5) * w - e) / s + T(0.5);
-        if (z > 0 && z < 1) {
-          dw += g[x] * T(0.5) / s;
-          ds -= g[x] * (T(0.5) * w - e) / (s * s);
-        }
-      }
-    }
+      return [&, v](int x, T g) {
+        softEdgeAdjoint(g, w, distance(dir, cnt, uCoord<T>(x, n), v), s, dw, ds);
+      };
+    });
     c.dP(kWidth) += dw;
     c.dP(kSoft) += ds;
   }
@@ -599,17 +629,25 @@ struct Checker {
     const T w = fracT(x);
     return w < T(0.5) ? std::min(w, T(0.5) - w) : -std::min(w - T(0.5), T(1) - w);
   }
+  /// The soft square wave along one axis (t: u or v): clamp(signedEdge / softness, -1, 1), and
+  /// its derivative in the softness.
+  template <class T>
+  struct Wave {
+    T value, dSoft;
+    Wave(T t, int count, T s) {
+      const T e = signedEdge(t * T(count));
+      value = std::clamp(e / s, T(-1), T(1));
+      dSoft = std::abs(e / s) < 1 ? -e / (s * s) : T(0);
+    }
+  };
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, cnt = c.I(kCount);
     const T s = c.P(kSoft);
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      const T sv = std::clamp(signedEdge(vCoord<T>(y, n) * T(cnt)) / s, T(-1), T(1));
-      for (int x = 0; x < n; ++x) {
-        const T su = std::clamp(signedEdge(uCoord<T>(x, n) * T(cnt)) / s, T(-1), T(1));
-        o[x] = T(0.5) + T(0.5) * su * sv;
-      }
+    writeRows(c, [&](int y) {
+      const T sv = Wave<T>(vCoord<T>(y, n), cnt, s).value;
+      return
+          [&, sv](int x) { return T(0.5) + T(0.5) * Wave<T>(uCoord<T>(x, n), cnt, s).value * sv; };
     });
   }
   template <class T>
@@ -617,18 +655,13 @@ struct Checker {
     const int n = c.n, cnt = c.I(kCount);
     const T s = c.P(kSoft);
     T acc = 0;
-    for (int y = 0; y < n; ++y) {
-      const T* g = c.dOut[0]->row(y);
-      const T ev = signedEdge(vCoord<T>(y, n) * T(cnt));
-      const T sv = std::clamp(ev / s, T(-1), T(1));
-      const T dsv = std::abs(ev / s) < 1 ? -ev / (s * s) : T(0);
-      for (int x = 0; x < n; ++x) {
-        const T eu = signedEdge(uCoord<T>(x, n) * T(cnt));
-        const T su = std::clamp(eu / s, T(-1), T(1));
-        const T dsu = std::abs(eu / s) < 1 ? -eu / (s * s) : T(0);
-        acc += g[x] * T(0.5) * (dsu * sv + su * dsv);
-      }
-    }
+    visitRowGradients(c, [&](int y) {
+      const Wave<T> wv(vCoord<T>(y, n), cnt, s);
+      return [&, wv](int x, T g) {
+        const Wave<T> wu(uCoord<T>(x, n), cnt, s);
+        acc += g * T(0.5) * (wu.dSoft * wv.value + wu.value * wv.dSoft);
+      };
+    });
     c.dP(kSoft) += acc;
   }
 };
@@ -652,46 +685,26 @@ struct Shape {
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
-    const int n = c.n, cnt = c.I(kCount), sh = c.I(kShape);
+    const int sh = c.I(kShape);
     const T size = c.P(kSize), s = c.P(kSoft);
-    forRows(n, [&](int y) {
-      T* o = c.out[0]->row(y);
-      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
-      for (int x = 0; x < n; ++x) {
-        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
-        const T r = radius(sh, lx, ly);
-        if (sh == 2) {
-          const T q = std::min(r / (T(0.5) * size), T(1));
-          o[x] = T(0.5) + T(0.5) * std::cos(T(M_PI) * q);
-        } else {
-          o[x] = clamp01((T(0.5) * size - r) / s + T(0.5));
-        }
-      }
+    writeCells(c, c.I(kCount), [&](T lx, T ly) {
+      const T r = radius(sh, lx, ly);
+      if (sh != 2) return softEdge(size, r, s);
+      const T q = std::min(r / (T(0.5) * size), T(1));
+      return T(0.5) + T(0.5) * std::cos(T(M_PI) * q);
     });
   }
   template <class T>
   static void backward(NodeCtx<T>& c) {
-    const int n = c.n, cnt = c.I(kCount), sh = c.I(kShape);
+    const int sh = c.I(kShape);
     const T size = c.P(kSize), s = c.P(kSoft);
     T dsize = 0, dsoft = 0;
-    for (int y = 0; y < n; ++y) {
-      const T* g = c.dOut[0]->row(y);
-      const T ly = fracT(vCoord<T>(y, n) * T(cnt)) - T(0.5);
-      for (int x = 0; x < n; ++x) {
-        const T lx = fracT(uCoord<T>(x, n) * T(cnt)) - T(0.5);
-        const T r = radius(sh, lx, ly);
-        if (sh == 2) {
-          const T q = r / (T(0.5) * size);
-          if (q < 1) dsize += g[x] * (-T(0.5) * T(M_PI) * std::sin(T(M_PI) * q)) * (-q / size);
-        } else {
-          const T z = (T(0.5) * size - r) / s + T(0.5);
-          if (z > 0 && z < 1) {
-            dsize += g[x] * T(0.5) / s;
-            dsoft -= g[x] * (T(0.5) * size - r) / (s * s);
-          }
-        }
-      }
-    }
+    visitCellGradients(c, c.I(kCount), [&](T g, T lx, T ly) {
+      const T r = radius(sh, lx, ly);
+      if (sh != 2) return softEdgeAdjoint(g, size, r, s, dsize, dsoft);
+      const T q = r / (T(0.5) * size);
+      if (q < 1) dsize += g * (-T(0.5) * T(M_PI) * std::sin(T(M_PI) * q)) * (-q / size);
+    });
     c.dP(kSize) += dsize;
     c.dP(kSoft) += dsoft;
   }
@@ -717,6 +730,16 @@ struct Bevel {
     }
   }
 };
+
+/// The ports of tile-like nodes: an optional `pattern` in; height, random and sampled out.
+inline NodeTypeDesc tileLikeDesc(const char* name, const char* doc,
+                                 std::vector<GraphParameter> params) {
+  return {name,
+          doc,
+          {{"pattern", 0, true}},
+          {{"height", 1}, {"random", 1}, {"sampled", 0}},
+          std::move(params)};
+}
 
 /// Shared output layout of tile-like nodes: height, random, sampled (pattern with a per-tile
 /// offset; transposed when `transpose`).
@@ -750,21 +773,20 @@ inline void scatterSampled(NodeCtx<T>& c, int x, int y, int sx, int sy, bool tra
 struct Tile {
   enum { kLayout, kRows, kCols, kRowOffset, kGap, kBevel, kLumVar, kSeed };
   static NodeTypeDesc desc() {
-    return {"tile",
-            "Tile generator: rows x cols tiles (bricks: every other row shifted by row_offset; "
-            "grid: no shift; planks: each row shifted by a random fraction of row_offset). "
-            "Outputs the bevelled height (0 in the gap, 1 on the tile), a per-tile random value "
-            "0.5 + lum_var (r - 0.5), and the optional `pattern` input shifted by a random offset "
-            "per tile. gap and bevel are in units of the tile height.",
-            {{"pattern", 0, true}},
-            {{"height", 1}, {"random", 1}, {"sampled", 0}},
-            {pChoice("layout", {"bricks", "grid", "planks"}, 0, "row layout"),
-             pInt("rows", 1, 128, 8, "rows per unit (bricks: rounded up to even)"),
-             pInt("cols", 1, 128, 4, "tiles per row per unit"),
-             pCont("row_offset", 0, 1, 0.5f, "row shift as a fraction of a tile length"),
-             pCont("gap", 0, 0.5f, 0.06f, "gap (mortar, grout) width"),
-             pCont("bevel", 0.005f, 0.5f, 0.06f, "bevel width"),
-             pCont("lum_var", 0, 1, 0.3f, "per-tile random value spread"), pSeed()}};
+    return tileLikeDesc(
+        "tile",
+        "Tile generator: rows x cols tiles (bricks: every other row shifted by row_offset; "
+        "grid: no shift; planks: each row shifted by a random fraction of row_offset). "
+        "Outputs the bevelled height (0 in the gap, 1 on the tile), a per-tile random value "
+        "0.5 + lum_var (r - 0.5), and the optional `pattern` input shifted by a random offset "
+        "per tile. gap and bevel are in units of the tile height.",
+        {pChoice("layout", {"bricks", "grid", "planks"}, 0, "row layout"),
+         pInt("rows", 1, 128, 8, "rows per unit (bricks: rounded up to even)"),
+         pInt("cols", 1, 128, 4, "tiles per row per unit"),
+         pCont("row_offset", 0, 1, 0.5f, "row shift as a fraction of a tile length"),
+         pCont("gap", 0, 0.5f, 0.06f, "gap (mortar, grout) width"),
+         pCont("bevel", 0.005f, 0.5f, 0.06f, "bevel width"),
+         pCont("lum_var", 0, 1, 0.3f, "per-tile random value spread"), pSeed()});
   }
   template <class T>
   struct Geo {
@@ -854,18 +876,16 @@ struct Tile {
 struct Herringbone {
   enum { kCount, kRatio, kGap, kBevel, kLumVar, kSeed };
   static NodeTypeDesc desc() {
-    return {
+    return tileLikeDesc(
         "herringbone",
         "Herringbone parquet of 1 x ratio planks (horizontal and vertical in a staircase), "
         "repeated count x count times per unit. Outputs as `tile`; the `pattern` input is "
         "transposed on vertical planks so a grain along u follows every plank. gap and bevel "
         "are in units of the plank width.",
-        {{"pattern", 0, true}},
-        {{"height", 1}, {"random", 1}, {"sampled", 0}},
         {pInt("count", 1, 32, 2, "pattern repeats per unit"),
          pInt("ratio", 2, 8, 4, "plank length / width"), pCont("gap", 0, 0.5f, 0.04f, "gap width"),
          pCont("bevel", 0.005f, 0.5f, 0.08f, "bevel width"),
-         pCont("lum_var", 0, 1, 0.3f, "per-plank random value spread"), pSeed()}};
+         pCont("lum_var", 0, 1, 0.3f, "per-plank random value spread"), pSeed()});
   }
   template <class T>
   struct Geo {
@@ -1042,20 +1062,8 @@ struct Weave {
 }  // namespace
 
 void addGeneratorNodes(std::vector<NodeType>& out) {
-  out.push_back(makeNodeType<UniformGray>());
-  out.push_back(makeNodeType<UniformColor>());
-  out.push_back(makeNodeType<Fbm>());
-  out.push_back(makeNodeType<ValueNoise>());
-  out.push_back(makeNodeType<WhiteNoise>());
-  out.push_back(makeNodeType<Voronoi>());
-  out.push_back(makeNodeType<GradientLinear>());
-  out.push_back(makeNodeType<GradientRadial>());
-  out.push_back(makeNodeType<Stripes>());
-  out.push_back(makeNodeType<Checker>());
-  out.push_back(makeNodeType<Shape>());
-  out.push_back(makeNodeType<Tile>());
-  out.push_back(makeNodeType<Herringbone>());
-  out.push_back(makeNodeType<Weave>());
+  addNodeTypes<Uniform<1>, Uniform<3>, Fbm, ValueNoise, WhiteNoise, Voronoi, GradientLinear,
+               GradientRadial, Stripes, Checker, Shape, Tile, Herringbone, Weave>(out);
 }
 
 }  // namespace ps::graphimpl
