@@ -272,10 +272,7 @@ class PartFitter {
     mask_ = graph_->differentiableMask();
   }
 
-  struct Eval {
-    double loss = 0, stat = 0, tex = 0, place = 0, prior = 0, highlight = 0, ceiling = 0;
-    double data = 0;  ///< the weighted terms that compare with the photo (no prior, no ceiling)
-  };
+  using Eval = PartFitLosses;
 
   // Loss of the current maps under (uv, roughness); with grads, also the layer's gradients.
   Eval evaluate(int level, const MaterialMaps& maps, const UvParams& uv, float roughness, int sub,
@@ -309,33 +306,33 @@ class PartFitter {
     cv::Mat gImage;  // d loss / d render image
     if (o_.statWeight > 0) {
       cv::Mat g;
-      e.stat = statLoss(photo, p.image, geo.pixels, grads ? &g : nullptr, target.photoNoise());
+      e.lossStat = statLoss(photo, p.image, geo.pixels, grads ? &g : nullptr, target.photoNoise());
       if (grads) gImage = g * o_.statWeight;
     }
     if (o_.textureWeight > 0) {
       TextureLossParams tp;
       tp.target = &target;
       tp.render = p.image;
-      e.tex = textureLossForward(tp);
+      e.lossTexture = textureLossForward(tp);
       if (grads) textureLossBackward(tp, o_.textureWeight, gImage, !gImage.empty());
     }
     if (o_.placementWeight > 0)
-      e.place = placementLoss(*lv.placement, p.image, grads ? &gImage : nullptr, o_.placementWeight, !gImage.empty());
+      e.lossPlacement = placementLoss(*lv.placement, p.image, grads ? &gImage : nullptr, o_.placementWeight, !gImage.empty());
     if (o_.highlightWeight > 0 && !lv.highlight.empty())
-      e.highlight = highlightLoss(photo, p.image, geo.pixels, lv.highlight,
+      e.lossHighlight = highlightLoss(photo, p.image, geo.pixels, lv.highlight,
                                   grads ? &gImage : nullptr, o_.highlightWeight);
     if (gImage.empty() && grads) gImage = cv::Mat::zeros(p.image.size(), CV_32FC3);
     double gPrior = 0;
-    if (o_.roughnessPriorWeight > 0) e.prior = roughnessPriorLoss(prior_, roughness, &gPrior);
+    if (o_.roughnessPriorWeight > 0) e.lossPrior = roughnessPriorLoss(prior_, roughness, &gPrior);
     const double priorWeight =
         o_.roughnessPriorWeight * (hasHighlight() ? 1.0 : o_.noHighlightPriorScale);
     cv::Mat gCeil;
     if (o_.albedoCeilingWeight > 0)
-      e.ceiling = albedoCeilingLoss(maps.albedo, o_.albedoCeilingKnee, grads ? &gCeil : nullptr,
+      e.lossCeiling = albedoCeilingLoss(maps.albedo, o_.albedoCeilingKnee, grads ? &gCeil : nullptr,
                                     o_.albedoCeilingWeight);
-    e.data = o_.statWeight * e.stat + o_.textureWeight * e.tex + o_.placementWeight * e.place +
-             o_.highlightWeight * e.highlight;
-    e.loss = e.data + priorWeight * e.prior + o_.albedoCeilingWeight * e.ceiling;
+    e.lossData = o_.statWeight * e.lossStat + o_.textureWeight * e.lossTexture +
+                 o_.placementWeight * e.lossPlacement + o_.highlightWeight * e.lossHighlight;
+    e.loss = e.lossData + priorWeight * e.lossPrior + o_.albedoCeilingWeight * e.lossCeiling;
     if (grads) {
       renderLayerBackward(p, gImage, *grads);
       grads->roughnessValue += static_cast<float>(priorWeight * gPrior);
@@ -631,17 +628,6 @@ class PartFitter {
   double stateLoss_ = 0;    // the last evaluated state's loss (for search progress reports)
 };
 
-/// The loss terms of an evaluation into a result.
-void storeLosses(const PartFitter::Eval& e, PartFitResult& res) {
-  res.loss = e.loss;
-  res.lossStat = e.stat;
-  res.lossTexture = e.tex;
-  res.lossPlacement = e.place;
-  res.lossPrior = e.prior;
-  res.lossHighlight = e.highlight;
-  res.lossCeiling = e.ceiling;
-  res.lossData = e.data;
-}
 
 }  // namespace
 
@@ -666,7 +652,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
     const PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
     res.initialLoss = e0.loss;
     f.stateLoss_ = e0.loss;
-    res.initialTextureLoss = e0.tex;
+    res.initialTextureLoss = e0.lossTexture;
   }
   if (options.spectrumScaleWindow > 0) {
     const Timer st;
@@ -715,7 +701,7 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   res.roughness = s.roughness;
   const float mr = f.meanRoughness(s.values);
   res.roughnessScale = mr > 1e-4f ? s.roughness / mr : 1.0f;
-  storeLosses(e, res);
+  static_cast<PartFitLosses&>(res) = e;
   {
     const MaterialMaps m = f.maps(s.values);
     res.albedoAtCeiling = albedoFractionAtCeiling(m.albedo, 0.99f);
@@ -763,9 +749,9 @@ PartFitResult scoreOnce(const MaterialGraph* graph, const MaterialMaps* maps,
   res.highlightPixels = f.highlightPixels();
   const PartFitter::Eval e = f.evaluate(0, maps ? *maps : f.maps(values), uv, roughness,
                                         o.specularSub, nullptr, &res.render, matchMeans);
-  storeLosses(e, res);
+  static_cast<PartFitLosses&>(res) = e;
   res.initialLoss = e.loss;
-  res.initialTextureLoss = e.tex;
+  res.initialTextureLoss = e.lossTexture;
   res.seconds = timer.seconds();
   return res;
 }

@@ -163,18 +163,23 @@ struct PartFitOptions {
   bool IsValid(std::string* error) const;
 };
 
-struct PartFitResult {
-  std::vector<float> values;       ///< graph values (MaterialGraph::values() layout)
-  UvParams uv;
-  float roughness = 0.5f;          ///< the fitted mean roughness
-  float roughnessScale = 1.0f;     ///< multiplies the graph's roughness map to that mean
-  double loss = 0, lossStat = 0, lossTexture = 0;  ///< at the returned values
-  double lossPlacement = 0;                         ///< L_place at the returned values (0 if off)
+/// The loss and its terms at one state (the formula at the top of this file).
+struct PartFitLosses {
+  double loss = 0, lossStat = 0, lossTexture = 0;
+  double lossPlacement = 0;                                  ///< L_place (0 if off)
   double lossPrior = 0, lossHighlight = 0, lossCeiling = 0;  ///< L_prior, L_hl, L_ceil (0 if off)
   /// the weighted terms that compare the render with the photo (stat, texture, placement,
   /// highlight): `loss` less the regularisers on the parameters (prior, ceiling). What held-back
   /// pixels test: a regulariser scores the fitted values, not how they explain other pixels.
   double lossData = 0;
+};
+
+/// A fit's result; its loss terms (PartFitLosses) are at the returned values.
+struct PartFitResult : PartFitLosses {
+  std::vector<float> values;       ///< graph values (MaterialGraph::values() layout)
+  UvParams uv;
+  float roughness = 0.5f;          ///< the fitted mean roughness
+  float roughnessScale = 1.0f;     ///< multiplies the graph's roughness map to that mean
   RoughnessPrior roughnessPrior;  ///< the prior used (when roughnessPriorWeight > 0)
   int highlightPixels = 0;        ///< pixels of the highlight region at full resolution (0: none)
   /// fraction of the fitted albedo map's texels >= 0.99 per channel; `albedoPinned` when a
