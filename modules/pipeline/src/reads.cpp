@@ -176,28 +176,22 @@ const PresetBudget& Reads::budget() const {
 }
 
 int Reads::renderSpp() const {
-  needOption("preset");
-  needOption("render_spp");
-  return ctx_.in_.options.renderSpp.value_or(ctx_.in_.budget.renderSpp);
+  return presetUnless("render_spp", ctx_.in_.options.renderSpp, ctx_.in_.budget.renderSpp);
 }
 
 int Reads::evalSpp() const {
-  needOption("preset");
-  needOption("eval_spp");
-  return ctx_.in_.options.evalSpp.value_or(ctx_.in_.budget.evalSpp);
+  return presetUnless("eval_spp", ctx_.in_.options.evalSpp, ctx_.in_.budget.evalSpp);
 }
 
 int Reads::incidentSamples() const {
-  needOption("preset");
-  needOption("incident");
-  return ctx_.in_.options.incidentSamples.value_or(ctx_.in_.budget.incidentSamples);
+  return presetUnless("incident", ctx_.in_.options.incidentSamples,
+                      ctx_.in_.budget.incidentSamples);
 }
 
 int Reads::incidentDirectSamples(int round) const {
-  needOption("preset");
-  needOption("incident");
-  return ctx_.in_.options.incidentDirectSamples.value_or(
-      round == 0 ? ctx_.in_.budget.incidentDirectSamples : ctx_.in_.budget.incident1DirectSamples);
+  const PresetBudget& b = ctx_.in_.budget;
+  return presetUnless("incident", ctx_.in_.options.incidentDirectSamples,
+                      round == 0 ? b.incidentDirectSamples : b.incident1DirectSamples);
 }
 
 const PartFitOptions& Reads::fitOptions() const {
@@ -206,9 +200,7 @@ const PartFitOptions& Reads::fitOptions() const {
 }
 
 SynthesisOptions Reads::synthesisOptions() const {
-  needOption("preset");
-  needOption("selection");
-  return ctx_.in_.options.selection.value_or(ctx_.in_.budget.synthesis);
+  return presetUnless("selection", ctx_.in_.options.selection, ctx_.in_.budget.synthesis);
 }
 
 bool Reads::denoise() const {

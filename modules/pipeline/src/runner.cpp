@@ -165,27 +165,27 @@ uint64_t Runner::unitKey(const Context& ctx, const StageDecl& decl, int unit,
   return h.digest();
 }
 
+const std::vector<uint64_t>& Runner::addKeys(const Context& ctx, const StageDecl& decl,
+                                             StageKeys& done,
+                                             std::map<std::string, uint64_t>& fileHashes) const {
+  std::vector<uint64_t>& k = done[decl.name];
+  for (int u = 0; u < unitCount(ctx, decl.unit); ++u)
+    k.push_back(unitKey(ctx, decl, u, done, fileHashes));
+  return k;
+}
+
 StageKeys Runner::keys(const Context& ctx) const {
   StageKeys all;
   std::map<std::string, uint64_t> fileHashes;
-  for (const auto& s : stages_) {
-    std::vector<uint64_t>& k = all[s->decl.name];
-    for (int u = 0; u < unitCount(ctx, s->decl.unit); ++u)
-      k.push_back(unitKey(ctx, s->decl, u, all, fileHashes));
-  }
+  for (const auto& s : stages_) addKeys(ctx, s->decl, all, fileHashes);
   return all;
 }
 
 void Runner::run(Context& ctx) {
   StageKeys done;
   std::map<std::string, uint64_t> fileHashes;
-  for (const auto& s : stages_) {
-    std::vector<uint64_t>& k = done[s->decl.name];
-    // keys as the stage starts: a file of the output folder it reads is as upstream stages left it
-    for (int u = 0; u < unitCount(ctx, s->decl.unit); ++u)
-      k.push_back(unitKey(ctx, s->decl, u, done, fileHashes));
-    runStage(ctx, *s, k);
-  }
+  // keys as each stage starts: a file of the output folder it reads is as upstream stages left it
+  for (const auto& s : stages_) runStage(ctx, *s, addKeys(ctx, s->decl, done, fileHashes));
 }
 
 void Runner::runStage(Context& ctx, Stage& stage, const std::vector<uint64_t>& keys) {

@@ -38,6 +38,9 @@ class Runner {
  private:
   uint64_t unitKey(const Context& ctx, const StageDecl& decl, int unit, const StageKeys& upstream,
                    std::map<std::string, uint64_t>& fileHashes) const;
+  /// The keys of every unit of the stage `decl` declares, added to `done` under its name.
+  const std::vector<uint64_t>& addKeys(const Context& ctx, const StageDecl& decl, StageKeys& done,
+                                       std::map<std::string, uint64_t>& fileHashes) const;
   void runStage(Context& ctx, Stage& stage, const std::vector<uint64_t>& keys);
   StageList stages_;
 };

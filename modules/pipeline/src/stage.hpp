@@ -18,6 +18,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -128,6 +129,13 @@ class Reads {
   friend class Runner;
   void need(std::string_view sceneKey, int view = -1, int part = -1) const;
   void needOption(std::string_view option) const;
+  /// `value` when the run option `option` sets it, else the preset's `budgeted` (both declared).
+  template <class T>
+  T presetUnless(std::string_view option, const std::optional<T>& value, const T& budgeted) const {
+    needOption("preset");
+    needOption(option);
+    return value.value_or(budgeted);
+  }
   const Context& ctx_;
   const StageDecl& decl_;
   int unit_;
