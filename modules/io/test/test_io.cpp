@@ -213,24 +213,27 @@ TEST(Io_Obj, files_over_the_limits_are_refused_naming_the_line_and_the_limit) {
 }
 
 TEST(Io_Obj, bad_files_name_the_file_and_line) {
+  struct Case {
+    const char* file;
+    const char* text;  // nullptr: the file is not there
+    const char* says;
+  };
+  const Case cases[] = {
+      {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n",
+       "range.obj: line 5: face refers to vertex 9"},
+      {"zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "zero.obj: line 4"},
+      {"empty.obj", "# nothing\nv 0 0 0\n", "empty.obj: no faces"},
+      {"vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n",
+       "line 5: face refers to texture coordinate 2"},
+      {"two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "line 3: a face needs at least 3 corners"},
+      {"nope.obj", nullptr, "nope.obj: OBJ file not found"},
+  };
   TempDir dir;
-  writeText(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
-  std::string msg = inputErrorOf([&] { readObj(dir / "range.obj"); });
-  EXPECT_TRUE(contains(msg, "range.obj: line 5: face refers to vertex 9")) << msg;
-  writeText(dir / "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
-  msg = inputErrorOf([&] { readObj(dir / "zero.obj"); });
-  EXPECT_TRUE(contains(msg, "zero.obj: line 4")) << msg;
-  writeText(dir / "empty.obj", "# nothing\nv 0 0 0\n");
-  msg = inputErrorOf([&] { readObj(dir / "empty.obj"); });
-  EXPECT_TRUE(contains(msg, "empty.obj: no faces")) << msg;
-  writeText(dir / "vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n");
-  msg = inputErrorOf([&] { readObj(dir / "vt.obj"); });
-  EXPECT_TRUE(contains(msg, "line 5: face refers to texture coordinate 2")) << msg;
-  writeText(dir / "two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
-  msg = inputErrorOf([&] { readObj(dir / "two.obj"); });
-  EXPECT_TRUE(contains(msg, "line 3: a face needs at least 3 corners")) << msg;
-  msg = inputErrorOf([&] { readObj(dir / "nope.obj"); });
-  EXPECT_TRUE(contains(msg, "nope.obj: OBJ file not found")) << msg;
+  for (const Case& c : cases) {
+    if (c.text) writeText(dir / c.file, c.text);
+    const std::string msg = inputErrorOf([&] { readObj(dir / c.file); });
+    EXPECT_TRUE(contains(msg, c.says)) << msg;
+  }
 }
 
 const char* kScene = R"({

@@ -41,6 +41,24 @@ void attachTriangles(RTCDevice device, RTCScene scene, const std::vector<Vec3f>&
   rtcAttachGeometryByID(scene, g, id);
   rtcReleaseGeometry(g);
 }
+
+/// Embree's ray from `org` along `dir` over [tnear, tfar] (every geometry mask, no motion).
+RTCRay embreeRay(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) {
+  RTCRay ray;
+  ray.org_x = org.x();
+  ray.org_y = org.y();
+  ray.org_z = org.z();
+  ray.dir_x = dir.x();
+  ray.dir_y = dir.y();
+  ray.dir_z = dir.z();
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.time = 0;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
 }  // namespace
 
 RayAccel::RayAccel(const Mesh& mesh, const std::vector<Vec3f>& shapeVertices)
@@ -90,18 +108,7 @@ void RayAccel::rectangleTriangle(int prim, Vec3f* p0, Vec3f* p1, Vec3f* p2) cons
 
 RayHit RayAccel::intersect(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
   RTCRayHit rh;
-  rh.ray.org_x = org.x();
-  rh.ray.org_y = org.y();
-  rh.ray.org_z = org.z();
-  rh.ray.dir_x = dir.x();
-  rh.ray.dir_y = dir.y();
-  rh.ray.dir_z = dir.z();
-  rh.ray.tnear = tnear;
-  rh.ray.tfar = tfar;
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  rh.ray = embreeRay(org, dir, tnear, tfar);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 #if RTC_VERSION_MAJOR >= 4
@@ -122,19 +129,7 @@ RayHit RayAccel::intersect(const Vec3f& org, const Vec3f& dir, float tnear, floa
 }
 
 bool RayAccel::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
-  RTCRay ray;
-  ray.org_x = org.x();
-  ray.org_y = org.y();
-  ray.org_z = org.z();
-  ray.dir_x = dir.x();
-  ray.dir_y = dir.y();
-  ray.dir_z = dir.z();
-  ray.tnear = tnear;
-  ray.tfar = tfar;
-  ray.time = 0;
-  ray.mask = 0xFFFFFFFFu;
-  ray.id = 0;
-  ray.flags = 0;
+  RTCRay ray = embreeRay(org, dir, tnear, tfar);
 #if RTC_VERSION_MAJOR >= 4
   rtcOccluded1(impl_->scene, &ray);
 #else

@@ -26,12 +26,14 @@ double maskedMean(const cv::Mat& img, const cv::Mat& mask, int channel = 1) {
   return n ? s / n : 0.0;
 }
 
-Scene furnaceScene() {
+// A unit sphere (part "sphere") under a constant environment of `radiance`; white 2 is the
+// furnace.
+Scene furnaceScene(const Vec3f& radiance = Vec3f(2.0f, 2.0f, 2.0f)) {
   Scene s;
   const int part = addPart(s, "sphere");
   addSphere(s.mesh, Vec3f(0, 0, 0), 1.0f, part, false, 32, 64);
   EnvironmentLight env;
-  env.radiance = Vec3f(2.0f, 2.0f, 2.0f);
+  env.radiance = radiance;
   s.lights.environment = env;
   return s;
 }
@@ -422,7 +424,9 @@ TEST(Raytrace_PerLight, per_light_images_match_one_light_renders_and_add_up_with
     // the test sees a 10 % error in the lamp's and the environment's images (the small
     // rectangle's, 0.16 m^2 seen mostly through one bounce, is too noisy at 32 spp for that;
     // the test above checks it to the bit)
-    if (i != 1) EXPECT_GT(maxBlockZ(per[i] * 1.1, alone, 16), kMaxZ) << "light " << i;
+    if (i != 1) {
+      EXPECT_GT(maxBlockZ(per[i] * 1.1, alone, 16), kMaxZ) << "light " << i;
+    }
     sum += scaled(per[i], scale[i]);
   }
   // the all-lights render (lights picked by power: another estimator of the same image)
@@ -558,12 +562,7 @@ namespace {
 
 TEST(Raytrace_IncidentLight, furnace_grid_is_constant_and_shades_lambert_exactly) {
   using namespace ps::test;
-  Scene scene;
-  const int part = addPart(scene, "sphere");
-  addSphere(scene.mesh, Vec3f(0, 0, 0), 1.0f, part, false, 32, 64);
-  EnvironmentLight env;
-  env.radiance = Vec3f(2.0f, 1.0f, 0.5f);
-  scene.lights.environment = env;
+  Scene scene = furnaceScene(Vec3f(2.0f, 1.0f, 0.5f));
   std::vector<PartMaterial> mats{lambert("sphere", 0.6f)};
   const PathTracer tracer(scene, mats);
   const Camera cam = makeCamera(32, 32, 60, Vec3d(0, 0.5, 4), Vec3d(0, 0, 0));

@@ -10,6 +10,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/io/files.hpp"
 #include "photoscene/io/scene_json.hpp"
+#include "photoscene/report/report.hpp"
 
 namespace ps::report {
 
@@ -17,32 +18,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 double number(const json& j, const char* key, double fallback) {
   const auto it = j.find(key);
@@ -157,7 +132,7 @@ std::string viewsHtml(const ViewsSummary& s) {
        "in</h2>\n<table><thead><tr><th>view</th><th>photo</th><th>exposure</th><th>parts fitted "
        "in it</th></tr></thead><tbody>\n";
   for (const auto& v : s.views)
-    h << "<tr><td>" << v.index << "</td><td>" << escape(v.image) << "</td><td>"
+    h << "<tr><td>" << v.index << "</td><td>" << escapeHtml(v.image) << "</td><td>"
       << fmt::format("{:.4f}", v.exposure) << "</td><td>" << v.parts << "</td></tr>\n";
   h << "</tbody></table>\n";
   const bool scored = std::any_of(s.parts.begin(), s.parts.end(),
@@ -172,7 +147,7 @@ std::string viewsHtml(const ViewsSummary& s) {
          "&times; agreement = score)</th></tr></thead><tbody>\n";
     for (const auto& p : s.parts) {
       if (p.view < 0) continue;
-      h << "<tr><td>" << escape(p.part) << "</td><td>" << p.view << "</td><td>";
+      h << "<tr><td>" << escapeHtml(p.part) << "</td><td>" << p.view << "</td><td>";
       for (const auto& v : p.seen) {
         const std::string cell = fmt::format("{}: {} &times; {:.2f} &times; {:.2f} = {:.0f}",
                                              v.view, v.pixels, v.meanCosine, v.agreement, v.score) +
@@ -191,7 +166,7 @@ std::string viewsHtml(const ViewsSummary& s) {
          "after.</p>\n<table><thead><tr><th>object</th><th>pose</th><th>mislabelled "
          "pixels</th><th>its own labelled pixels</th></tr></thead><tbody>\n";
     for (const auto& b : s.objects)
-      h << "<tr><td>" << escape(b.name) << "</td><td>" << moveText(b) << "</td><td>" << b.before
+      h << "<tr><td>" << escapeHtml(b.name) << "</td><td>" << moveText(b) << "</td><td>" << b.before
         << " &rarr; " << b.after << "</td><td>" << b.pixels << "</td></tr>\n";
     h << "</tbody></table>\n";
   }
