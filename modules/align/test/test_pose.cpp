@@ -210,8 +210,9 @@ TEST(Align_Pose, the_moved_obj_reads_back_as_the_moved_mesh_and_shared_vertices_
   EXPECT_GT(largestVertexError(mesh, shared, table), 0.1f);
   // normals turn with the object
   for (size_t t = 0; t < mesh.numTriangles(); ++t)
-    if (mesh.objectIds[t] == table)
+    if (mesh.objectIds[t] == table) {
       EXPECT_LT((mesh.cornerNormals[3 * t] - mesh.faceNormal(static_cast<int>(t))).norm(), 1e-5f);
+    }
 }
 
 // The blender-room example (shared data): its coarse CAD moves each piece of furniture 2-6 cm,

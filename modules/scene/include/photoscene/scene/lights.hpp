@@ -128,11 +128,11 @@ class EnvironmentLight final : public Light {
   bool isInfinite() const override { return true; }
   std::vector<int> openingParts() const override { return windowParts; }
   void preprocess(const LightScene& scene) override;
-  float power(const Vec3f& scale) const override;
   bool sampleLi(const LightSampleContext& ctx, float u1, const Vec2f& u2,
                 LightLiSample* out) const override;
   Vec3f L(const LightHit& hit) const override;
   float pdfLi(const LightSampleContext& ctx, const LightHit& hit) const override;
+  float power(const Vec3f& scale) const override;
   nlohmann::json toJson(const LightJsonContext& ctx) const override;
   std::string describe(const std::vector<Part>& parts) const override;
 
