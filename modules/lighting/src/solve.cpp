@@ -220,222 +220,266 @@ std::string LightSolution::summary() const {
 
 namespace {
 
-/// solveLights on the gathered samples of every view (`total` of them in all).
-LightSolution solveSamples(const std::vector<Samples>& data,
-                           const std::vector<std::vector<DirectSamples>>& direct, int lights,
-                           int total, const SolveOptions& options) {
-  LightSolution sol;
-  sol.intensity.assign(lights, Vec3d::Zero());
-  sol.exposure.assign(data.size(), 1.0);
-  sol.dropped.assign(lights, false);
-  sol.samples = total;
-  sol.directPixels.assign(lights, 0);
-  sol.pinned.assign(lights, false);
-  for (int k = 0; k < lights; ++k) {
-    double seen = 0;
-    for (const auto& d : direct) {
-      sol.directPixels[k] += d[k].count;
-      for (float l : d[k].light) seen += double(l) * l;
+/// solveLights on the gathered samples of every view (`total` of them in all): lights,
+/// exposures and the regions' factors solved alternately, each step with the others fixed, in
+/// rounds that drop the lights adding (almost) nothing.
+class LightSolver {
+ public:
+  LightSolver(const std::vector<Samples>& data, const std::vector<std::vector<DirectSamples>>& direct,
+              int lights, int total, const SolveOptions& options)
+      : data_(data), direct_(direct), lights_(lights), total_(total), o_(options) {
+    sol_.intensity.assign(lights, Vec3d::Zero());
+    sol_.exposure.assign(data.size(), 1.0);
+    sol_.dropped.assign(lights, false);
+    sol_.samples = total;
+    findPinned();
+    for (int k = 0; k < lights; ++k) active_.push_back(k);
+    prepareRegions();
+  }
+
+  LightSolution solve() {
+    // With a pinned light and several views the exposures come from the solve without the pin,
+    // then stay: a pinned light's intensity follows the exposures of the views that show it
+    // (x = sum e_v L P / sum e_v^2 L^2) and those exposures follow the light, so where the window
+    // is seen in one view only the two would trade along x e_v = const and drift (the
+    // yardstick's window case ran to exposure 0 and an intensity of 1e153).
+    solveExposures_ = o_.perViewExposure && data_.size() > 1;
+    if (solveExposures_ &&
+        std::find(sol_.pinned.begin(), sol_.pinned.end(), true) != sol_.pinned.end()) {
+      SolveOptions unpinned = o_;
+      unpinned.directMinPixels = 0;
+      sol_.exposure = LightSolver(data_, direct_, lights_, total_, unpinned).solve().exposure;
+      solveExposures_ = false;
     }
-    sol.pinned[k] = options.directMinPixels > 0 && sol.directPixels[k] >= options.directMinPixels &&
-                    seen > 0;
+    for (int round = 0; round <= lights_; ++round) {
+      alternate();
+      if (!dropWeakLights() || active_.empty()) break;
+    }
+    sol_.residualRms = residual();
+    return sol_;
   }
 
-  std::vector<int> active;
-  for (int k = 0; k < lights; ++k) active.push_back(k);
-
-  // the regions' reflectance factors (1 where a sample has no region)
-  int regions = 0;
-  for (const Samples& s : data)
-    for (int r : s.region) regions = std::max(regions, r + 1);
-  sol.regionFactor.assign(regions, Vec3d::Ones());
-  std::vector<double> regionWeight(regions, 0.0);
-  for (const Samples& s : data)
-    for (int r : s.region)
-      if (r >= 0) regionWeight[r] += 1;
-  auto factor = [&](int r, int c) { return r >= 0 ? sol.regionFactor[r][c] : 1.0; };
-  // what sets the common scale of light and reflectance (LightSolution::regionFactor)
-  double givenSum = 0, photoSum = 0, regionPhotoSum = 0;
-  for (const Samples& s : data) {
-    for (float g : s.given) givenSum += g;
-    for (int i = 0; i < s.count; ++i)
-      for (int c = 0; c < 3; ++c) {
-        photoSum += s.photo[3 * i + c];
-        if (s.region[i] >= 0) regionPhotoSum += s.photo[3 * i + c];
+ private:
+  // Which lights are pinned to the pixels that show them (SolveOptions::directMinPixels).
+  void findPinned() {
+    sol_.directPixels.assign(lights_, 0);
+    sol_.pinned.assign(lights_, false);
+    for (int k = 0; k < lights_; ++k) {
+      double seen = 0;
+      for (const auto& d : direct_) {
+        sol_.directPixels[k] += d[k].count;
+        for (float l : d[k].light) seen += double(l) * l;
       }
+      sol_.pinned[k] = o_.directMinPixels > 0 && sol_.directPixels[k] >= o_.directMinPixels && seen > 0;
+    }
   }
-  const bool givenScale = givenSum > 0 && givenSum >= kKnownLightShare * photoSum;
-  // ... of the light on the regions (not counting the pinned light's own pixels)
-  auto pinnedScale = [&] {
-    double pinned = 0;
-    for (const Samples& s : data)
-      for (int i = 0; i < s.count; ++i) {
-        if (s.region[i] < 0) continue;
-        for (int k : active)
-          if (sol.pinned[k])
-            for (int c = 0; c < 3; ++c) pinned += sol.intensity[k][c] * s.light[k][3 * i + c];
-      }
-    return pinned > 0 && pinned >= kKnownLightShare * regionPhotoSum;
-  };
-  // the given light and the active lights' sum at sample i, channel c (before exposure and
-  // factor)
-  auto lit = [&](const Samples& s, int i, int c) {
-    double m = s.given[3 * i + c];
-    for (int k : active) m += sol.intensity[k][c] * s.light[k][3 * i + c];
-    return m;
-  };
 
-  auto residual = [&]() {
-    double err = 0, ref = 0;
-    for (size_t v = 0; v < data.size(); ++v) {
-      const Samples& s = data[v];
+  // The regions' reflectance factors (1 where a sample has no region), their weights, and what
+  // sets the common scale of light and reflectance (LightSolution::regionFactor).
+  void prepareRegions() {
+    for (const Samples& s : data_)
+      for (int r : s.region) regions_ = std::max(regions_, r + 1);
+    sol_.regionFactor.assign(regions_, Vec3d::Ones());
+    regionWeight_.assign(regions_, 0.0);
+    for (const Samples& s : data_)
+      for (int r : s.region)
+        if (r >= 0) regionWeight_[r] += 1;
+    double givenSum = 0, photoSum = 0;
+    for (const Samples& s : data_) {
+      for (float g : s.given) givenSum += g;
       for (int i = 0; i < s.count; ++i)
         for (int c = 0; c < 3; ++c) {
-          const double d = sol.exposure[v] * factor(s.region[i], c) * lit(s, i, c) - s.photo[3 * i + c];
+          photoSum += s.photo[3 * i + c];
+          if (s.region[i] >= 0) regionPhotoSum_ += s.photo[3 * i + c];
+        }
+    }
+    givenScale_ = givenSum > 0 && givenSum >= kKnownLightShare * photoSum;
+  }
+
+  double factor(int r, int c) const { return r >= 0 ? sol_.regionFactor[r][c] : 1.0; }
+
+  // the given light and the active lights' sum at sample i, channel c (before exposure and
+  // factor)
+  double lit(const Samples& s, int i, int c) const {
+    double m = s.given[3 * i + c];
+    for (int k : active_) m += sol_.intensity[k][c] * s.light[k][3 * i + c];
+    return m;
+  }
+
+  // Whether the pinned lights send at least kKnownLightShare of the light on the regions (not
+  // counting their own pixels).
+  bool pinnedScale() const {
+    double pinned = 0;
+    for (const Samples& s : data_)
+      for (int i = 0; i < s.count; ++i) {
+        if (s.region[i] < 0) continue;
+        for (int k : active_)
+          if (sol_.pinned[k])
+            for (int c = 0; c < 3; ++c) pinned += sol_.intensity[k][c] * s.light[k][3 * i + c];
+      }
+    return pinned > 0 && pinned >= kKnownLightShare * regionPhotoSum_;
+  }
+
+  double residual() {
+    double err = 0, ref = 0;
+    for (size_t v = 0; v < data_.size(); ++v) {
+      const Samples& s = data_[v];
+      for (int i = 0; i < s.count; ++i)
+        for (int c = 0; c < 3; ++c) {
+          const double d = sol_.exposure[v] * factor(s.region[i], c) * lit(s, i, c) - s.photo[3 * i + c];
           err += d * d;
           ref += double(s.photo[3 * i + c]) * s.photo[3 * i + c];
         }
     }
-    sol.photoRms = std::sqrt(ref / (3.0 * total));
-    return std::sqrt(err / (3.0 * total));
-  };
-
-  // With a pinned light and several views the exposures come from the solve without the pin,
-  // then stay: a pinned light's intensity follows the exposures of the views that show it
-  // (x = sum e_v L P / sum e_v^2 L^2) and those exposures follow the light, so where the window
-  // is seen in one view only the two would trade along x e_v = const and drift (the yardstick's
-  // window case ran to exposure 0 and an intensity of 1e153).
-  bool solveExposures = options.perViewExposure && data.size() > 1;
-  if (solveExposures && std::find(sol.pinned.begin(), sol.pinned.end(), true) != sol.pinned.end()) {
-    SolveOptions unpinned = options;
-    unpinned.directMinPixels = 0;
-    sol.exposure = solveSamples(data, direct, lights, total, unpinned).exposure;
-    solveExposures = false;
+    sol_.photoRms = std::sqrt(ref / (3.0 * total_));
+    return std::sqrt(err / (3.0 * total_));
   }
-  for (int round = 0; round <= lights; ++round) {
+
+  // One round's alternation, until the residual stops changing.
+  void alternate() {
     double previous = std::numeric_limits<double>::infinity();
-    const int alternations = (solveExposures || regions > 0) ? options.maxAlternations : 1;
+    const int alternations = (solveExposures_ || regions_ > 0) ? o_.maxAlternations : 1;
     for (int it = 0; it < alternations; ++it) {
-      // intensities per channel for fixed exposures: the pinned lights from the pixels that
-      // show them, then the others by NNLS over the rest of the photo
-      std::vector<int> free;
-      for (int k : active)
-        if (!sol.pinned[k]) free.push_back(k);
-      for (int c = 0; c < 3; ++c) {
-        for (int k : active) {
-          if (!sol.pinned[k]) continue;
-          double pl = 0, ll = 0;
-          for (size_t v = 0; v < direct.size(); ++v) {
-            const DirectSamples& d = direct[v][k];
-            for (int i = 0; i < d.count; ++i) {
-              const double l = sol.exposure[v] * d.light[3 * i + c];
-              pl += l * (d.photo[3 * i + c] - sol.exposure[v] * d.given[3 * i + c]);
-              ll += l * l;
-            }
-          }
-          sol.intensity[k][c] = ll > 0 ? std::max(0.0, pl / ll) : 0.0;
-        }
-        const int n = static_cast<int>(free.size());
-        if (n == 0) continue;
-        Eigen::MatrixXd A(total, n);
-        Eigen::VectorXd b(total);
-        int row = 0;
-        for (size_t v = 0; v < data.size(); ++v) {
-          const Samples& s = data[v];
-          for (int i = 0; i < s.count; ++i, ++row) {
-            const double ef = sol.exposure[v] * factor(s.region[i], c);
-            for (int j = 0; j < n; ++j) A(row, j) = ef * s.light[free[j]][3 * i + c];
-            double pinnedPart = s.given[3 * i + c];
-            for (int k : active)
-              if (sol.pinned[k]) pinnedPart += sol.intensity[k][c] * s.light[k][3 * i + c];
-            b[row] = s.photo[3 * i + c] - ef * pinnedPart;
-          }
-        }
-        const Eigen::VectorXd x = nnls(A, b);
-        for (int j = 0; j < n; ++j) sol.intensity[free[j]][c] = x[j];
-      }
-      // exposures for fixed intensities (view 0 is the reference)
-      if (solveExposures) {
-        for (size_t v = 1; v < data.size(); ++v) {
-          const Samples& s = data[v];
-          double pm = 0, mm = 0;
-          for (int i = 0; i < s.count; ++i)
-            for (int c = 0; c < 3; ++c) {
-              const double m = factor(s.region[i], c) * lit(s, i, c);
-              pm += m * s.photo[3 * i + c];
-              mm += m * m;
-            }
-          sol.exposure[v] = mm > 0 ? pm / mm : 1.0;
-        }
-      }
-      // the regions' factors for fixed lights and exposures, then the gauge: their pixel-weighted
-      // log-mean is 0 (light and reflectance trade a scale per channel), unless light of known
-      // radiance sets that scale
-      if (regions > 0) {
-        std::vector<Vec3d> pm(regions, Vec3d::Zero()), mm(regions, Vec3d::Zero());
-        for (size_t v = 0; v < data.size(); ++v) {
-          const Samples& s = data[v];
-          for (int i = 0; i < s.count; ++i) {
-            const int r = s.region[i];
-            if (r < 0) continue;
-            for (int c = 0; c < 3; ++c) {
-              const double m = sol.exposure[v] * lit(s, i, c);
-              pm[r][c] += m * s.photo[3 * i + c];
-              mm[r][c] += m * m;
-            }
-          }
-        }
-        Vec3d logMean = Vec3d::Zero();
-        double weight = 0;
-        for (int r = 0; r < regions; ++r) {
-          if (regionWeight[r] <= 0) continue;
-          for (int c = 0; c < 3; ++c)
-            sol.regionFactor[r][c] = mm[r][c] > 0 ? std::clamp(pm[r][c] / mm[r][c], kMinFactor, kMaxFactor) : 1.0;
-          logMean += regionWeight[r] * sol.regionFactor[r].array().log().matrix();
-          weight += regionWeight[r];
-        }
-        // light of given radiance sets every channel's scale: no gauge; a pinned light sets the
-        // colour, the guesses the level (one scale over the channels); else one scale per channel
-        if (weight > 0 && !givenScale) {
-          Vec3d g = (logMean / weight).array().exp().matrix();
-          if (options.pinnedLightSetsColour && pinnedScale()) g.setConstant(std::cbrt(g.prod()));
-          for (Vec3d& f : sol.regionFactor) f = f.cwiseQuotient(g);
-        }
-      }
-      sol.alternations = it + 1;
+      for (int c = 0; c < 3; ++c) solveIntensities(c);
+      if (solveExposures_) solveExposures();
+      if (regions_ > 0) solveFactors();
+      sol_.alternations = it + 1;
       const double r = residual();
-      if (std::abs(previous - r) <= options.tolerance * std::max(r, 1e-30)) break;
+      if (std::abs(previous - r) <= o_.tolerance * std::max(r, 1e-30)) break;
       previous = r;
     }
-    // drop lights that add nothing (zero) or almost nothing to the model's energy
+  }
+
+  // Channel c's intensities for fixed exposures: the pinned lights from the pixels that show
+  // them, then the others by NNLS over the rest of the photo.
+  void solveIntensities(int c) {
+    std::vector<int> free;
+    for (int k : active_)
+      if (!sol_.pinned[k]) free.push_back(k);
+    for (int k : active_) {
+      if (!sol_.pinned[k]) continue;
+      double pl = 0, ll = 0;
+      for (size_t v = 0; v < direct_.size(); ++v) {
+        const DirectSamples& d = direct_[v][k];
+        for (int i = 0; i < d.count; ++i) {
+          const double l = sol_.exposure[v] * d.light[3 * i + c];
+          pl += l * (d.photo[3 * i + c] - sol_.exposure[v] * d.given[3 * i + c]);
+          ll += l * l;
+        }
+      }
+      sol_.intensity[k][c] = ll > 0 ? std::max(0.0, pl / ll) : 0.0;
+    }
+    const int n = static_cast<int>(free.size());
+    if (n == 0) return;
+    Eigen::MatrixXd A(total_, n);
+    Eigen::VectorXd b(total_);
+    int row = 0;
+    for (size_t v = 0; v < data_.size(); ++v) {
+      const Samples& s = data_[v];
+      for (int i = 0; i < s.count; ++i, ++row) {
+        const double ef = sol_.exposure[v] * factor(s.region[i], c);
+        for (int j = 0; j < n; ++j) A(row, j) = ef * s.light[free[j]][3 * i + c];
+        double pinnedPart = s.given[3 * i + c];
+        for (int k : active_)
+          if (sol_.pinned[k]) pinnedPart += sol_.intensity[k][c] * s.light[k][3 * i + c];
+        b[row] = s.photo[3 * i + c] - ef * pinnedPart;
+      }
+    }
+    const Eigen::VectorXd x = nnls(A, b);
+    for (int j = 0; j < n; ++j) sol_.intensity[free[j]][c] = x[j];
+  }
+
+  // Exposures for fixed intensities (view 0 is the reference).
+  void solveExposures() {
+    for (size_t v = 1; v < data_.size(); ++v) {
+      const Samples& s = data_[v];
+      double pm = 0, mm = 0;
+      for (int i = 0; i < s.count; ++i)
+        for (int c = 0; c < 3; ++c) {
+          const double m = factor(s.region[i], c) * lit(s, i, c);
+          pm += m * s.photo[3 * i + c];
+          mm += m * m;
+        }
+      sol_.exposure[v] = mm > 0 ? pm / mm : 1.0;
+    }
+  }
+
+  // The regions' factors for fixed lights and exposures, then the gauge: their pixel-weighted
+  // log-mean is 0 (light and reflectance trade a scale per channel), unless light of known
+  // radiance sets that scale.
+  void solveFactors() {
+    std::vector<Vec3d> pm(regions_, Vec3d::Zero()), mm(regions_, Vec3d::Zero());
+    for (size_t v = 0; v < data_.size(); ++v) {
+      const Samples& s = data_[v];
+      for (int i = 0; i < s.count; ++i) {
+        const int r = s.region[i];
+        if (r < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double m = sol_.exposure[v] * lit(s, i, c);
+          pm[r][c] += m * s.photo[3 * i + c];
+          mm[r][c] += m * m;
+        }
+      }
+    }
+    Vec3d logMean = Vec3d::Zero();
+    double weight = 0;
+    for (int r = 0; r < regions_; ++r) {
+      if (regionWeight_[r] <= 0) continue;
+      for (int c = 0; c < 3; ++c)
+        sol_.regionFactor[r][c] = mm[r][c] > 0 ? std::clamp(pm[r][c] / mm[r][c], kMinFactor, kMaxFactor) : 1.0;
+      logMean += regionWeight_[r] * sol_.regionFactor[r].array().log().matrix();
+      weight += regionWeight_[r];
+    }
+    // light of given radiance sets every channel's scale: no gauge; a pinned light sets the
+    // colour, the guesses the level (one scale over the channels); else one scale per channel
+    if (weight > 0 && !givenScale_) {
+      Vec3d g = (logMean / weight).array().exp().matrix();
+      if (o_.pinnedLightSetsColour && pinnedScale()) g.setConstant(std::cbrt(g.prod()));
+      for (Vec3d& f : sol_.regionFactor) f = f.cwiseQuotient(g);
+    }
+  }
+
+  // Drops the lights that add nothing (zero) or almost nothing to the model's energy; true when
+  // any was dropped (the rest are solved again).
+  bool dropWeakLights() {
     double energyAll = 0;
-    std::vector<double> energy(lights, 0.0);
-    for (const Samples& s : data)
-      for (int k : active)
+    std::vector<double> energy(lights_, 0.0);
+    for (const Samples& s : data_)
+      for (int k : active_)
         for (int i = 0; i < s.count; ++i)
           for (int c = 0; c < 3; ++c)
-            energy[k] += factor(s.region[i], c) * sol.intensity[k][c] * s.light[k][3 * i + c];
-    for (int k : active) energyAll += energy[k];
-    for (const Samples& s : data)  // the given light's share counts in the whole
+            energy[k] += factor(s.region[i], c) * sol_.intensity[k][c] * s.light[k][3 * i + c];
+    for (int k : active_) energyAll += energy[k];
+    for (const Samples& s : data_)  // the given light's share counts in the whole
       for (int i = 0; i < s.count; ++i)
         for (int c = 0; c < 3; ++c) energyAll += factor(s.region[i], c) * s.given[3 * i + c];
     std::vector<int> keep;
-    for (int k : active) {
-      const bool zero = sol.intensity[k].maxCoeff() <= 0;
-      if (zero || (energyAll > 0 && energy[k] < options.dropShare * energyAll)) {
-        sol.dropped[k] = true;
-        sol.intensity[k].setZero();
+    for (int k : active_) {
+      const bool zero = sol_.intensity[k].maxCoeff() <= 0;
+      if (zero || (energyAll > 0 && energy[k] < o_.dropShare * energyAll)) {
+        sol_.dropped[k] = true;
+        sol_.intensity[k].setZero();
       } else {
         keep.push_back(k);
       }
     }
-    if (keep.size() == active.size()) break;
-    active = keep;
-    if (active.empty()) break;
+    if (keep.size() == active_.size()) return false;
+    active_ = keep;
+    return true;
   }
-  sol.residualRms = residual();
-  return sol;
-}
+
+  const std::vector<Samples>& data_;
+  const std::vector<std::vector<DirectSamples>>& direct_;
+  const int lights_, total_;
+  const SolveOptions& o_;
+  LightSolution sol_;
+  std::vector<int> active_;          // lights not dropped
+  int regions_ = 0;
+  std::vector<double> regionWeight_;  // samples per region
+  double regionPhotoSum_ = 0;         // the photo over the regions' samples
+  bool givenScale_ = false;           // light of given radiance sets the scale
+  bool solveExposures_ = false;
+};
 
 }  // namespace
 
@@ -469,7 +513,7 @@ LightSolution solveLights(const std::vector<ViewLightData>& views, const SolveOp
     total += data.back().count;
   }
   PS_Check(total > 0, "solveLights: no usable pixel in any view (masks empty or photos saturated)");
-  return solveSamples(data, direct, lights, total, options);
+  return LightSolver(data, direct, lights, total, options).solve();
 }
 
 }  // namespace ps::lighting
