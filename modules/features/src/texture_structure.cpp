@@ -66,48 +66,11 @@ cv::Mat autocorrelation(const cv::Mat& x, int padRows, int padCols) {
   return ac;
 }
 
-}  // namespace
-
-std::vector<float> computeStructureKey(const cv::Mat& image, const cv::Mat& mask,
-                                       const TextureStructureOptions& options) {
-  std::string why;
-  PS_Check(options.IsValid(&why), "invalid TextureStructureOptions: " << why);
-  PS_Check(image.type() == CV_32FC3 && mask.type() == CV_8UC1 && image.size() == mask.size(),
-           "computeStructureKey: CV_32FC3 image and CV_8UC1 mask of one size expected");
-  const cv::Rect box = cv::boundingRect(mask != 0);
-  PS_Check(box.area() > 0, "computeStructureKey: empty mask");
-  const cv::Mat img = image(box), msk = mask(box) != 0;
-  const int H = box.height, W = box.width;
-
-  // per-channel normalization by the masked mean: invariant to any per-channel light scale
-  const cv::Scalar channelMean = cv::mean(img, msk);
-  double norm[3];
-  const double maxMean = std::max({channelMean[0], channelMean[1], channelMean[2]});
-  for (int c = 0; c < 3; ++c) norm[c] = 1.0 / (channelMean[c] + 1e-6 * maxMean + 1e-12);
-  cv::Mat m01;
-  msk.convertTo(m01, CV_32F, 1.0 / 255.0);
-  const float floor = options.logFloor;
-  std::vector<cv::Mat> ch(3);
-  cv::split(img, ch);
-  for (int c = 0; c < 3; ++c) ch[c].convertTo(ch[c], CV_32F, norm[c], floor);  // x / mean + floor
-  cv::Mat l = kLuminanceWeightsF[0] * ch[0] + kLuminanceWeightsF[1] * ch[1] +
-              kLuminanceWeightsF[2] * ch[2],
-          a, b;  // luminance + floor
-  cv::log(l, l);
-  for (int c = 0; c < 3; ++c) cv::log(ch[c], ch[c]);
-  a = ch[0] - ch[1];
-  b = ch[2] - ch[1];
-  l.setTo(0, ~msk);
-  a.setTo(0, ~msk);
-  b.setTo(0, ~msk);
-  const double count = std::max(1, cv::countNonZero(msk));
-  const double meanL = cv::sum(l)[0] / count;
-  std::vector<float> out;
-  out.reserve(structureKeyLength(options));
-
-  // 1. gradient direction harmonics and edge sparsity per scale. A sigma of 2^j s0 (s0 in [1, 2))
-  // is applied as s0 on the field halved j times (masked area averages): the same statistics at
-  // a quarter of the cost per octave.
+/// 1. Gradient direction harmonics and edge sparsity per scale. A sigma of 2^j s0 (s0 in [1, 2))
+/// is applied as s0 on the field halved j times (masked area averages): the same statistics at
+/// a quarter of the cost per octave.
+void appendGradientStatistics(const cv::Mat& l, const cv::Mat& m01,
+                              const TextureStructureOptions& options, std::vector<float>& out) {
   struct Level {
     cv::Mat l, m01;
   };
@@ -166,8 +129,11 @@ std::vector<float> computeStructureKey(const cv::Mat& image, const cv::Mat& mask
     }
     out.push_back(sg > 1e-12 ? static_cast<float>(std::log(sg2 * sc / (sg * sg))) : 0.f);
   }
+}
 
-  // 2. normalized autocorrelation of log L, ring means and maxima
+/// 2. Normalized autocorrelation of log L (masked), its ring means and maxima.
+void appendAutocorrelationRings(const cv::Mat& l, const cv::Mat& m01, double meanL,
+                                const TextureStructureOptions& options, std::vector<float>& out) {
   const int rings =
       options.ringEdges.size() >= 2 ? static_cast<int>(options.ringEdges.size()) - 1 : 0;
   if (rings > 0) {
@@ -217,47 +183,92 @@ std::vector<float> computeStructureKey(const cv::Mat& image, const cv::Mat& mask
       out.push_back(n > 0 ? best : 0.f);
     }
   }
+}
 
-  // 3. colour against brightness
-  {
-    const double ma = cv::sum(a)[0] / count, mb = cv::sum(b)[0] / count;
-    double val = 0, caa = 0, cbb = 0, cal = 0, cbl = 0;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        if (!msk.at<uint8_t>(y, x)) continue;
-        const double dl = l.at<float>(y, x) - meanL, da = a.at<float>(y, x) - ma,
-                     db = b.at<float>(y, x) - mb;
-        val += dl * dl;
-        caa += da * da;
-        cbb += db * db;
-        cal += da * dl;
-        cbl += db * dl;
-      }
-    out.push_back(static_cast<float>(cal / (val + 1e-6 * count)));
-    out.push_back(static_cast<float>(cbl / (val + 1e-6 * count)));
-    out.push_back(std::log(static_cast<float>(std::sqrt(caa / count)) + floor));
-    out.push_back(std::log(static_cast<float>(std::sqrt(cbb / count)) + floor));
-    // blurred by 3 pixels: 1.5 on the half-size field (masked area averages)
-    const cv::Size half((W + 1) / 2, (H + 1) / 2);
-    cv::Mat ah, bh, mh;
-    cv::resize(a, ah, half, 0, 0, cv::INTER_AREA);
-    cv::resize(b, bh, half, 0, 0, cv::INTER_AREA);
-    cv::resize(m01, mh, half, 0, 0, cv::INTER_AREA);
-    ah /= cv::max(mh, 1e-6);
-    bh /= cv::max(mh, 1e-6);
-    const cv::Mat ab = maskedBlur(ah, mh, 1.5, nullptr), bb = maskedBlur(bh, mh, 1.5, nullptr);
-    double s2a = 0, s2b = 0, sm = 0;
-    for (int y = 0; y < half.height; ++y)
-      for (int x = 0; x < half.width; ++x) {
-        const double wt = mh.at<float>(y, x);
-        if (wt <= 0) continue;
-        s2a += wt * std::pow(ab.at<float>(y, x) - ma, 2);
-        s2b += wt * std::pow(bb.at<float>(y, x) - mb, 2);
-        sm += wt;
-      }
-    out.push_back(std::log(static_cast<float>(std::sqrt(s2a / std::max(sm, 1e-9))) + floor));
-    out.push_back(std::log(static_cast<float>(std::sqrt(s2b / std::max(sm, 1e-9))) + floor));
-  }
+/// 3. Colour against brightness: the opponent channels a, b against log L, and their spread.
+void appendColourStatistics(const cv::Mat& l, const cv::Mat& a, const cv::Mat& b, const cv::Mat& msk,
+                            const cv::Mat& m01, double count, double meanL, float floor,
+                            std::vector<float>& out) {
+  const double ma = cv::sum(a)[0] / count, mb = cv::sum(b)[0] / count;
+  double val = 0, caa = 0, cbb = 0, cal = 0, cbl = 0;
+  for (int y = 0; y < l.rows; ++y)
+    for (int x = 0; x < l.cols; ++x) {
+      if (!msk.at<uint8_t>(y, x)) continue;
+      const double dl = l.at<float>(y, x) - meanL, da = a.at<float>(y, x) - ma,
+                   db = b.at<float>(y, x) - mb;
+      val += dl * dl;
+      caa += da * da;
+      cbb += db * db;
+      cal += da * dl;
+      cbl += db * dl;
+    }
+  out.push_back(static_cast<float>(cal / (val + 1e-6 * count)));
+  out.push_back(static_cast<float>(cbl / (val + 1e-6 * count)));
+  out.push_back(std::log(static_cast<float>(std::sqrt(caa / count)) + floor));
+  out.push_back(std::log(static_cast<float>(std::sqrt(cbb / count)) + floor));
+  // blurred by 3 pixels: 1.5 on the half-size field (masked area averages)
+  const cv::Size half((l.cols + 1) / 2, (l.rows + 1) / 2);
+  cv::Mat ah, bh, mh;
+  cv::resize(a, ah, half, 0, 0, cv::INTER_AREA);
+  cv::resize(b, bh, half, 0, 0, cv::INTER_AREA);
+  cv::resize(m01, mh, half, 0, 0, cv::INTER_AREA);
+  ah /= cv::max(mh, 1e-6);
+  bh /= cv::max(mh, 1e-6);
+  const cv::Mat ab = maskedBlur(ah, mh, 1.5, nullptr), bb = maskedBlur(bh, mh, 1.5, nullptr);
+  double s2a = 0, s2b = 0, sm = 0;
+  for (int y = 0; y < half.height; ++y)
+    for (int x = 0; x < half.width; ++x) {
+      const double wt = mh.at<float>(y, x);
+      if (wt <= 0) continue;
+      s2a += wt * std::pow(ab.at<float>(y, x) - ma, 2);
+      s2b += wt * std::pow(bb.at<float>(y, x) - mb, 2);
+      sm += wt;
+    }
+  out.push_back(std::log(static_cast<float>(std::sqrt(s2a / std::max(sm, 1e-9))) + floor));
+  out.push_back(std::log(static_cast<float>(std::sqrt(s2b / std::max(sm, 1e-9))) + floor));
+}
+
+}  // namespace
+
+std::vector<float> computeStructureKey(const cv::Mat& image, const cv::Mat& mask,
+                                       const TextureStructureOptions& options) {
+  std::string why;
+  PS_Check(options.IsValid(&why), "invalid TextureStructureOptions: " << why);
+  PS_Check(image.type() == CV_32FC3 && mask.type() == CV_8UC1 && image.size() == mask.size(),
+           "computeStructureKey: CV_32FC3 image and CV_8UC1 mask of one size expected");
+  const cv::Rect box = cv::boundingRect(mask != 0);
+  PS_Check(box.area() > 0, "computeStructureKey: empty mask");
+  const cv::Mat img = image(box), msk = mask(box) != 0;
+
+  // per-channel normalization by the masked mean: invariant to any per-channel light scale
+  const cv::Scalar channelMean = cv::mean(img, msk);
+  double norm[3];
+  const double maxMean = std::max({channelMean[0], channelMean[1], channelMean[2]});
+  for (int c = 0; c < 3; ++c) norm[c] = 1.0 / (channelMean[c] + 1e-6 * maxMean + 1e-12);
+  cv::Mat m01;
+  msk.convertTo(m01, CV_32F, 1.0 / 255.0);
+  const float floor = options.logFloor;
+  std::vector<cv::Mat> ch(3);
+  cv::split(img, ch);
+  for (int c = 0; c < 3; ++c) ch[c].convertTo(ch[c], CV_32F, norm[c], floor);  // x / mean + floor
+  cv::Mat l = kLuminanceWeightsF[0] * ch[0] + kLuminanceWeightsF[1] * ch[1] +
+              kLuminanceWeightsF[2] * ch[2],
+          a, b;  // luminance + floor
+  cv::log(l, l);
+  for (int c = 0; c < 3; ++c) cv::log(ch[c], ch[c]);
+  a = ch[0] - ch[1];
+  b = ch[2] - ch[1];
+  l.setTo(0, ~msk);
+  a.setTo(0, ~msk);
+  b.setTo(0, ~msk);
+  const double count = std::max(1, cv::countNonZero(msk));
+  const double meanL = cv::sum(l)[0] / count;
+  std::vector<float> out;
+  out.reserve(structureKeyLength(options));
+
+  appendGradientStatistics(l, m01, options, out);
+  appendAutocorrelationRings(l, m01, meanL, options, out);
+  appendColourStatistics(l, a, b, msk, m01, count, meanL, floor, out);
   PS_CheckEQ(static_cast<int>(out.size()), structureKeyLength(options), "structure key length");
   return out;
 }
