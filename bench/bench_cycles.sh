@@ -19,8 +19,7 @@
 #            need for equal noise (variance ~ 1 / spp); < 0.5 meets the issue's target
 set -euo pipefail
 
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BUILD="$ROOT/build"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="${TMPDIR:-/tmp}/ps_bench_cycles"
 W=320
 H=240
@@ -31,8 +30,6 @@ THREADS=2
 TWINS=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    --build) BUILD="$(cd "$2" && pwd)"; shift 2 ;;
-    --out) OUT="$2"; shift 2 ;;
     --twin) TWINS+=("$2"); shift 2 ;;
     --width) W="$2"; shift 2 ;;
     --height) H="$2"; shift 2 ;;
@@ -40,8 +37,7 @@ while [[ $# -gt 0 ]]; do
     --ref-spp) REF_SPP="$2"; shift 2 ;;
     --ref) REF_FILE="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;  # reuse a reference (one twin)
     --threads) THREADS="$2"; shift 2 ;;
-    -h|--help) sed -n 2,22p "$0"; exit 0 ;;
-    *) echo "unknown option $1" >&2; exit 2 ;;
+    *) common_option "$@"; shift "$SHIFT" ;;
   esac
 done
 if [[ ${#TWINS[@]} -eq 0 ]]; then
@@ -51,9 +47,7 @@ if [[ ${#TWINS[@]} -eq 0 ]]; then
 fi
 PS="$BUILD/bin/photoscene"
 CMP="$BUILD/bin/ps_bench_compare"
-for exe in "$PS" "$CMP"; do
-  [[ -x "$exe" ]] || { echo "missing $exe (build the photoscene and ps_bench_compare targets)" >&2; exit 2; }
-done
+need_programs "$PS" "$CMP"
 if [[ ${#TWINS[@]} -eq 0 ]]; then echo "no twin folder found (pass --twin DIR)"; exit 0; fi
 HAVE_BLENDER=0
 BLENDER="${BLENDER:-blender}"

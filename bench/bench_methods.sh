@@ -26,8 +26,7 @@
 # A run that fails is reported as "failed" with its log in OUT/<case>/<method>.log; the bench goes on.
 set -uo pipefail
 
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BUILD="$ROOT/build"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="${TMPDIR:-/tmp}/ps_bench_methods"
 QUICK=0
 THREADS=0
@@ -40,16 +39,13 @@ ARGS="$*"
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) QUICK=1; shift ;;
-    --build) BUILD="$(cd "$2" && pwd)"; shift 2 ;;
-    --out) OUT="$2"; shift 2 ;;
     --case) CASES+=("$(cd "$2" && pwd)"); shift 2 ;;
     --threads) THREADS="$2"; shift 2 ;;
     --eval-spp) EVAL_SPP="$2"; shift 2 ;;
     --methods) METHODS="$2"; shift 2 ;;
     --no-gt-twin) GT_TWIN=0; shift ;;
     --no-reeval) REEVAL=0; shift ;;
-    -h|--help) sed -n '2,/^set -uo/p' "$0" | sed '$d'; exit 0 ;;
-    *) echo "unknown option $1" >&2; exit 2 ;;
+    *) common_option "$@"; shift "$SHIFT" ;;
   esac
 done
 if [[ -z "$METHODS" ]]; then
@@ -70,9 +66,7 @@ if [[ ${#CASES[@]} -eq 0 ]]; then
 fi
 PS="$BUILD/bin/photoscene"
 TABLE="$BUILD/bin/ps_bench_methods_table"
-for exe in "$PS" "$TABLE"; do
-  [[ -x "$exe" ]] || { echo "missing $exe (build the photoscene and ps_bench_methods_table targets)" >&2; exit 2; }
-done
+need_programs "$PS" "$TABLE"
 mkdir -p "$OUT"
 REPORT="$OUT/bench_methods.md"
 now() { date +%s.%N; }

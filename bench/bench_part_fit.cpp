@@ -276,16 +276,11 @@ int main(int argc, char** argv) {
       m.specular = 0.5f;  // the layer's default: the truth is a dielectric with the graph's roughness map
       m.uv = uvTrue.toTransform();
       const PathTracer tracer(room.scene, mats);
-      RenderOptions ro;
-      ro.spp = 256;
-      ro.seed = 3;
-      ro.filter = PixelFilter::Box;
-      ro.filterWidth = 1.0f;
       cv::Mat photo;
       testroom::View view;
       {
         const ThreadLimit all(0);  // the scene is set up with every core; only the fit is timed
-        photo = tracer.render(room.camera, ro);
+        photo = tracer.render(room.camera, boxFilterOptions(256, 3));
         view = prepareView(tracer, room.camera, 8, 8, 9);
       }
       const PartGeometry geo = preparePartGeometry(view.gbuffer, room.camera.position().cast<float>(), view.grid,

@@ -68,6 +68,7 @@
 #include "photoscene/select.hpp"
 #include "photoscene/core/color.hpp"
 #include "real_materials.hpp"
+#include "../samples/tools/synthetic_obj.hpp"
 
 namespace fs = std::filesystem;
 using namespace ps;
@@ -145,22 +146,8 @@ io::ObjMesh roomMesh(bool window, bool room20) {
   }
   io::ObjMesh m;
   for (const Quad& f : q) {
-    int mat = -1;
-    for (size_t i = 0; i < m.materialNames.size(); ++i)
-      if (m.materialNames[i] == f.part) mat = static_cast<int>(i);
-    if (mat < 0) {
-      mat = static_cast<int>(m.materialNames.size());
-      m.materialNames.push_back(f.part);
-    }
-    const int base = static_cast<int>(m.positions.size());
-    for (const Vec3f& p : {f.a, f.b, f.c, f.d}) m.positions.push_back(p);
-    auto corner = [&](int k) { return io::ObjCorner{base + k, -1, -1}; };
-    m.triangles.push_back({corner(0), corner(1), corner(2)});
-    m.triangles.push_back({corner(0), corner(2), corner(3)});
-    for (int k = 0; k < 2; ++k) {
-      m.triangleMaterial.push_back(mat);
-      m.triangleLine.push_back(0);
-    }
+    const int mat = tools::materialIndex(m, f.part);
+    tools::addQuad(m, {f.a, f.b, f.c, f.d}, mat);
   }
   return m;
 }
@@ -269,14 +256,7 @@ void generateCase(const Options& o, const CaseSpec& spec, const std::string& lig
   const bool window = lighting == "window";
 
   io::ObjMesh obj = roomMesh(window, spec.room20);
-  std::vector<Part> parts;
-  const Mesh mesh = meshFromObj(obj, &parts, Vec3f(0, 1, 0));
-  obj.texcoords.clear();
-  for (size_t t = 0; t < obj.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      obj.texcoords.push_back(mesh.cornerUvs[3 * t + k]);
-      obj.triangles[t][k].texcoord = static_cast<int>(obj.texcoords.size()) - 1;
-    }
+  const std::vector<Part> parts = tools::writeUvsIntoObj(obj);
   io::writeObj(tmp / "room.obj", obj);
 
   // true materials: the photographed maps on the textured parts, the neutral parts homogeneous
@@ -381,19 +361,20 @@ void generateCase(const Options& o, const CaseSpec& spec, const std::string& lig
     io::writeImage(tmp / photo, cv::Mat(o.height, o.width, CV_32FC3, cv::Scalar(0, 0, 0)));
     io::writeRawImage(tmp / seg, cv::Mat(o.height, o.width, CV_16UC1, cv::Scalar(0)));
   }
-  auto writeTwinScene = [&]() {
+  // the truth's scene.json in `caseFolder`: the views and gtLights as they stand
+  auto writeTwinScene = [&](const fs::path& caseFolder) {
     for (int v = 0; v < 2; ++v) {
       twinViews[v] = views[v];
       twinViews[v]["image"] = "../../" + views[v]["image"].get<std::string>();
       twinViews[v]["segments"] = "../../" + views[v]["segments"].get<std::string>();
     }
-    io::writeJsonFile(tmp / "gt/twin/scene.json", {{"version", 1},
-                                                   {"geometry", "../../room.obj"},
-                                                   {"up", {0, 1, 0}},
-                                                   {"views", twinViews},
-                                                   {"lights", gtLights}});
+    io::writeJsonFile(caseFolder / "gt/twin/scene.json", {{"version", 1},
+                                                          {"geometry", "../../room.obj"},
+                                                          {"up", {0, 1, 0}},
+                                                          {"views", twinViews},
+                                                          {"lights", gtLights}});
   };
-  writeTwinScene();
+  writeTwinScene(tmp);
   // scene.json places ceiling lights wherever it gives no area light; the truth of the window
   // lighting has none: its lights.json (which loadTwin prefers) holds the environment alone
   auto windowLights = [&](const fs::path& twinDir, double radiance) {
@@ -464,16 +445,7 @@ void generateCase(const Options& o, const CaseSpec& spec, const std::string& lig
       gtLights["area"][0]["radiance"] = {exposure * warm.x(), exposure * warm.y(),
                                          exposure * warm.z()};
     }
-    for (int v = 0; v < 2; ++v) {
-      twinViews[v] = views[v];
-      twinViews[v]["image"] = "../../" + views[v]["image"].get<std::string>();
-      twinViews[v]["segments"] = "../../" + views[v]["segments"].get<std::string>();
-    }
-    io::writeJsonFile(dir / "gt/twin/scene.json", {{"version", 1},
-                                                   {"geometry", "../../room.obj"},
-                                                   {"up", {0, 1, 0}},
-                                                   {"views", twinViews},
-                                                   {"lights", gtLights}});
+    writeTwinScene(dir);
     io::writeJsonFile(dir / "gt/truth.json", {{"case", spec.name},
                                               {"lighting", lighting},
                                               {"spp", sppFor(o, lighting)},

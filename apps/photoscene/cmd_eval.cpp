@@ -53,8 +53,6 @@ void printTable(const eval::TwinEvaluation& e) {
 #endif
 
 void addEvalCommand(CLI::App& root) {
-  auto* cmd =
-      root.add_subcommand("eval", "Recompute metrics.json of an output folder against the photos");
   struct Args {
     std::string out, scene;
     int spp = 64, threads = 0;
@@ -62,7 +60,8 @@ void addEvalCommand(CLI::App& root) {
     bool noParts = false, noGroundTruth = false, rerender = false, noDenoise = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("out", a->out, "Output folder of `photoscene run`")->required();
+  auto* cmd = addOutFolderCommand(
+      root, "eval", "Recompute metrics.json of an output folder against the photos", a->out);
   cmd->add_option("--scene", a->scene,
                   "scene.json with the photos (its folder's gt/ renders are scored too)")
       ->required();

@@ -12,12 +12,12 @@
 namespace ps::app {
 
 void addReportCommand(CLI::App& root) {
-  auto* cmd =
-      root.add_subcommand("report",
-                          "(Re)write OUT/report.html: photo / render / difference per view, a 3D "
-                          "viewer of the twin, the per-part table, metrics, loss curves");
   auto out = std::make_shared<std::string>();
-  cmd->add_option("out", *out, "Output folder of `photoscene run`")->required();
+  auto* cmd = addOutFolderCommand(root, "report",
+                                  "(Re)write OUT/report.html: photo / render / difference per "
+                                  "view, a 3D viewer of the twin, the per-part table, metrics, "
+                                  "loss curves",
+                                  *out);
 #ifdef PS_HAVE_REPORT
   auto noViewer = std::make_shared<bool>(false);
   cmd->add_flag("--no-viewer", *noViewer,

@@ -15,16 +15,15 @@
 namespace ps::app {
 
 void addViewCommand(CLI::App& root) {
-  auto* cmd =
-      root.add_subcommand("view",
-                          "Serve a twin folder on 127.0.0.1 and print the URL of its report.html "
-                          "(runs until Ctrl-C)");
   struct Args {
     std::string out;
     int port = 0;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("out", a->out, "Output folder of `photoscene run`")->required();
+  auto* cmd = addOutFolderCommand(
+      root, "view",
+      "Serve a twin folder on 127.0.0.1 and print the URL of its report.html (runs until Ctrl-C)",
+      a->out);
   cmd->add_option("--port", a->port, "Port on 127.0.0.1 (default 0: a free port)")
       ->check(CLI::Range(0, 65535));
 #ifdef PS_HAVE_REPORT

@@ -28,6 +28,15 @@ class ExitStatus {
   int code_;
 };
 
+/// Registers subcommand `name` on `root` with its positional OUT (required): an output folder of
+/// `photoscene run`, read into `out`. For the subcommands that work on such a folder.
+inline CLI::App* addOutFolderCommand(CLI::App& root, const std::string& name,
+                                     const std::string& description, std::string& out) {
+  CLI::App* cmd = root.add_subcommand(name, description);
+  cmd->add_option("out", out, "Output folder of `photoscene run`")->required();
+  return cmd;
+}
+
 void addRunCommand(CLI::App& root);
 void addRenderCommand(CLI::App& root);
 void addEvalCommand(CLI::App& root);

@@ -28,6 +28,7 @@
 #include "photoscene/io.hpp"
 #include "photoscene/raytrace.hpp"
 #include "photoscene/scene.hpp"
+#include "synthetic_obj.hpp"
 
 namespace fs = std::filesystem;
 using namespace ps;
@@ -43,13 +44,7 @@ struct Box {
 /// Adds an axis-aligned box as 6 quads (12 triangles), counter-clockwise seen from outside
 /// (inward = true: seen from inside, for the room).
 void addBox(io::ObjMesh& m, const Box& b, bool inward, std::vector<int>* objectOfVertex) {
-  int mat = -1;
-  for (size_t i = 0; i < m.materialNames.size(); ++i)
-    if (m.materialNames[i] == b.part) mat = static_cast<int>(i);
-  if (mat < 0) {
-    mat = static_cast<int>(m.materialNames.size());
-    m.materialNames.push_back(b.part);
-  }
+  const int mat = tools::materialIndex(m, b.part);
   const Vec3f& l = b.lo;
   const Vec3f& h = b.hi;
   const Vec3f c[8] = {{l.x(), l.y(), l.z()}, {h.x(), l.y(), l.z()}, {h.x(), h.y(), l.z()}, {l.x(), h.y(), l.z()},
@@ -57,18 +52,9 @@ void addBox(io::ObjMesh& m, const Box& b, bool inward, std::vector<int>* objectO
   // faces counter-clockwise seen from outside
   const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
   for (const auto& f : faces) {
-    const int base = static_cast<int>(m.positions.size());
-    for (int k = 0; k < 4; ++k) {
-      m.positions.push_back(c[f[inward ? 3 - k : k]]);
-      objectOfVertex->push_back(b.object);
-    }
-    auto corner = [&](int k) { return io::ObjCorner{base + k, -1, -1}; };
-    m.triangles.push_back({corner(0), corner(1), corner(2)});
-    m.triangles.push_back({corner(0), corner(2), corner(3)});
-    m.triangleMaterial.push_back(mat);
-    m.triangleMaterial.push_back(mat);
-    m.triangleLine.push_back(0);
-    m.triangleLine.push_back(0);
+    auto corner = [&](int k) { return c[f[inward ? 3 - k : k]]; };
+    tools::addQuad(m, {corner(0), corner(1), corner(2), corner(3)}, mat);
+    objectOfVertex->insert(objectOfVertex->end(), 4, b.object);
   }
 }
 
@@ -137,14 +123,7 @@ int main(int argc, char** argv) {
     addBox(tmp, r, true, &tmpObj);
     const char* names[6] = {"wall_back", "wall_front", "wall_left", "wall_right", "floor", "ceiling"};
     for (size_t t = 0; t < tmp.triangles.size(); ++t) {
-      const std::string name = names[t / 2];
-      int mat = -1;
-      for (size_t i = 0; i < exact.materialNames.size(); ++i)
-        if (exact.materialNames[i] == name) mat = static_cast<int>(i);
-      if (mat < 0) {
-        mat = static_cast<int>(exact.materialNames.size());
-        exact.materialNames.push_back(name);
-      }
+      const int mat = tools::materialIndex(exact, names[t / 2]);
       io::ObjCorner cs[3];
       for (int k = 0; k < 3; ++k) {
         exact.positions.push_back(tmp.positions[tmp.triangles[t][k].position]);
@@ -159,14 +138,7 @@ int main(int argc, char** argv) {
   for (const Box& b : furniture) addBox(exact, b, false, &objectOfVertex);
 
   // UVs in meters (planar per face cluster), written into the OBJ
-  std::vector<Part> parts;
-  const Mesh mesh = meshFromObj(exact, &parts, Vec3f(0, 1, 0));
-  exact.texcoords.clear();
-  for (size_t t = 0; t < exact.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      exact.texcoords.push_back(mesh.cornerUvs[3 * t + k]);
-      exact.triangles[t][k].texcoord = static_cast<int>(exact.texcoords.size()) - 1;
-    }
+  const std::vector<Part> parts = tools::writeUvsIntoObj(exact);
   io::writeObj(out / "room_exact.obj", exact);
 
   // coarse CAD: every furniture object moved 2-5 cm, turned 1-3 degrees about up, scaled 2-4 %
