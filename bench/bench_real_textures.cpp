@@ -1027,6 +1027,8 @@ int main(int argc, char** argv) {
                  "a graph's typical local contrast at most this x the photo's (0: no test)");
   app.add_option("--select-chroma-ratio", synthesis.maxChromaRatio,
                  "a graph's chromaticity spread at most this x the photo's (0: no test)");
+  app.add_option("--select-chroma-outside", synthesis.maxChromaOutside,
+                 "at most this share of a graph's render in colours the photo lacks (0: no test)");
   app.add_option("--select-coarse-scale", synthesis.coarseContrastScale,
                  "the contrast test again at this many pixels per cell (0 or 1: no such test)");
   app.add_option("--select-start-draw", startDraw,
@@ -1073,8 +1075,8 @@ int main(int argc, char** argv) {
   for (const char* flag : {"--select-shortlist", "--select-categories", "--select-steps",
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
                            "--select-contrast-ratio", "--select-chroma-ratio",
-                           "--select-coarse-scale", "--select-start-draw", "--select-warm-fit",
-                           "--select-held-out"})
+                           "--select-chroma-outside", "--select-coarse-scale",
+                           "--select-start-draw", "--select-warm-fit", "--select-held-out"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1086,6 +1088,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-contrast-ratio")) s.maxContrastRatio = synthesis.maxContrastRatio;
       if (app.count("--select-coarse-scale")) s.coarseContrastScale = synthesis.coarseContrastScale;
       if (app.count("--select-chroma-ratio")) s.maxChromaRatio = synthesis.maxChromaRatio;
+      if (app.count("--select-chroma-outside")) s.maxChromaOutside = synthesis.maxChromaOutside;
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
       s.heldOut = heldOut != 0;

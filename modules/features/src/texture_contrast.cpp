@@ -76,12 +76,14 @@ LocalContrast typicalLocalContrast(const cv::Mat& image, const cv::Mat& mask,
   return out;
 }
 
-ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkFloor) {
-  PS_Check(image.type() == CV_32FC3, "chromaSpread: image must be CV_32FC3");
+namespace {
+/// Log-chromaticities (log R/G, log B/G) of the counted pixels (see chromaSpread).
+std::vector<cv::Vec2d> logChromaticities(const cv::Mat& image, const cv::Mat& mask, float darkFloor,
+                                         const char* who) {
+  PS_Check(image.type() == CV_32FC3, who << ": image must be CV_32FC3");
   PS_Check(mask.type() == CV_8UC1 && mask.size() == image.size(),
-           "chromaSpread: mask must be CV_8UC1 of the image's size");
-  PS_Check(darkFloor >= 0, "chromaSpread: darkFloor must be >= 0");
-  ChromaSpread out;
+           who << ": mask must be CV_8UC1 of the image's size");
+  PS_Check(darkFloor >= 0, who << ": darkFloor must be >= 0");
   std::vector<cv::Vec3f> px;
   std::vector<float> lum;
   for (int y = 0; y < image.rows; ++y)
@@ -94,23 +96,93 @@ ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkF
       px.push_back(v);
       lum.push_back(luminance(v));
     }
+  std::vector<cv::Vec2d> out;
   if (px.empty()) return out;
   std::vector<float> sorted = lum;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double median = sorted[sorted.size() / 2];
   if (!(median > 0)) return out;
   const double eps = 0.01 * median, floor = darkFloor * median;
-  std::vector<double> rg, bg;
   for (size_t i = 0; i < px.size(); ++i) {
     if (lum[i] < floor) continue;
-    rg.push_back(std::log((px[i][0] + eps) / (px[i][1] + eps)));
-    bg.push_back(std::log((px[i][2] + eps) / (px[i][1] + eps)));
+    out.push_back({std::log((px[i][0] + eps) / (px[i][1] + eps)),
+                   std::log((px[i][2] + eps) / (px[i][1] + eps))});
   }
-  if (rg.empty()) return out;
+  return out;
+}
+
+/// c minus the median of each coordinate.
+void centreOnMedian(std::vector<cv::Vec2d>& c) {
+  if (c.empty()) return;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> v;
+    v.reserve(c.size());
+    for (const cv::Vec2d& p : c) v.push_back(p[k]);
+    const double m = quantile(v, 0.5);
+    for (cv::Vec2d& p : c) p[k] -= m;
+  }
+}
+
+int64_t binKey(int64_t x, int64_t y) {
+  return (x + (int64_t{1} << 30)) * (int64_t{1} << 32) + (y + (int64_t{1} << 30));
+}
+int64_t binOf(double v, double cell) {
+  return static_cast<int64_t>(std::floor(std::clamp(v / cell, -1e6, 1e6)));
+}
+}  // namespace
+
+ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkFloor) {
+  const std::vector<cv::Vec2d> c = logChromaticities(image, mask, darkFloor, "chromaSpread");
+  ChromaSpread out;
+  if (c.empty()) return out;
+  std::vector<double> rg, bg;
+  for (const cv::Vec2d& p : c) {
+    rg.push_back(p[0]);
+    bg.push_back(p[1]);
+  }
   auto range = [](std::vector<double>& v) { return quantile(v, 0.9) - quantile(v, 0.1); };
-  out.pixels = static_cast<int>(rg.size());
+  out.pixels = static_cast<int>(c.size());
   out.spread = std::hypot(range(rg), range(bg));
   return out;
+}
+
+bool ChromaGamut::contains(double rg, double bg) const {
+  return std::binary_search(bins.begin(), bins.end(), binKey(binOf(rg, cell), binOf(bg, cell)));
+}
+
+ChromaGamut chromaGamut(const cv::Mat& image, const cv::Mat& mask, float darkFloor, double cell) {
+  PS_Check(cell > 0, "chromaGamut: cell must be > 0");
+  std::vector<cv::Vec2d> c = logChromaticities(image, mask, darkFloor, "chromaGamut");
+  centreOnMedian(c);
+  ChromaGamut g;
+  g.cell = cell;
+  g.pixels = static_cast<int>(c.size());
+  std::vector<int64_t> keys;
+  keys.reserve(c.size());
+  for (const cv::Vec2d& p : c) keys.push_back(binKey(binOf(p[0], cell), binOf(p[1], cell)));
+  std::sort(keys.begin(), keys.end());
+  // bins with at least two pixels, each grown by one bin in x and y
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    if (keys[i] != keys[i + 1]) continue;
+    const int64_t x = keys[i] / (int64_t{1} << 32) - (int64_t{1} << 30);
+    const int64_t y = keys[i] % (int64_t{1} << 32) - (int64_t{1} << 30);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy) g.bins.push_back(binKey(x + dx, y + dy));
+    while (i + 1 < keys.size() && keys[i + 1] == keys[i]) ++i;
+  }
+  std::sort(g.bins.begin(), g.bins.end());
+  g.bins.erase(std::unique(g.bins.begin(), g.bins.end()), g.bins.end());
+  return g;
+}
+
+double chromaOutside(const ChromaGamut& gamut, const cv::Mat& image, const cv::Mat& mask,
+                     float darkFloor) {
+  std::vector<cv::Vec2d> c = logChromaticities(image, mask, darkFloor, "chromaOutside");
+  if (c.empty() || gamut.bins.empty()) return 0.0;
+  centreOnMedian(c);
+  size_t outside = 0;
+  for (const cv::Vec2d& p : c) outside += gamut.contains(p[0], p[1]) ? 0 : 1;
+  return static_cast<double>(outside) / static_cast<double>(c.size());
 }
 
 }  // namespace ps

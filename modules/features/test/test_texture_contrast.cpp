@@ -164,5 +164,65 @@ TEST(Features_Contrast, chroma_spread_counts_colours_whatever_the_lights_colour)
   EXPECT_THROW(chromaSpread(cv::Mat(kSize, CV_32FC1), mask), Exception);
 }
 
+TEST(Features_Contrast, chroma_gamut_tells_which_colours_not_only_how_many) {
+  const cv::Mat mask = diskMask(kSize, {80, 60}, 55);
+  const int n = cv::countNonZero(mask);
+  // the photo: a white chair with grain whose mask also holds warm wood (the floor between its
+  // legs) on a quarter of its pixels: a wide spread, all of it along white -> brown
+  cv::Mat photo = flat(0.7f) + (noise(kSize, 1.0, 21) - flat()) * 0.1;
+  cv::rectangle(photo, cv::Rect(20, 80, 120, 40), cv::Scalar(0.45, 0.28, 0.14), cv::FILLED);
+  // renders of the same mean level: white and wood planks (the photo's colours), and white
+  // with pale teal stripes on a fifth of the pixels (a colour the photo does not show)
+  cv::Mat planks = flat(0.7f), teal = flat(0.7f);
+  for (int x = 0; x < kSize.width; x += 10) {
+    cv::rectangle(planks, cv::Rect(x, 0, 3, kSize.height), cv::Scalar(0.45, 0.28, 0.14),
+                  cv::FILLED);
+    cv::rectangle(teal, cv::Rect(x, 0, 2, kSize.height), cv::Scalar(0.5, 0.7, 0.68), cv::FILLED);
+  }
+  const ChromaGamut g = chromaGamut(photo, mask);
+  EXPECT_GT(g.pixels, n / 2);
+  const double fromPhoto = chromaOutside(g, photo, mask),
+               fromPlanks = chromaOutside(g, planks, mask), fromTeal = chromaOutside(g, teal, mask),
+               fromFlat = chromaOutside(g, flat(0.6f), mask);
+  std::printf(
+      "outside the photo's colours: itself %.3f, planks %.3f, teal stripes %.3f, flat %.3f\n",
+      fromPhoto, fromPlanks, fromTeal, fromFlat);
+  EXPECT_EQ(fromPhoto, 0.0);  // every pixel's bin holds it and at least one more, or a neighbour
+  EXPECT_LT(fromPlanks, 0.02);
+  EXPECT_EQ(fromFlat, 0.0);
+  EXPECT_NEAR(fromTeal, 0.2, 0.03);  // the stripes' share, 2 of every 10 columns
+  // the spread alone lets the pale teal through: it is below the photo's
+  EXPECT_LT(chromaSpread(teal, mask).spread, chromaSpread(photo, mask).spread);
+  // a warm light on the render, or on the photo, and another level: the same verdict
+  cv::Mat warmTeal, warmPhoto;
+  cv::multiply(teal, cv::Scalar(1.6, 1.0, 0.5), warmTeal);
+  cv::multiply(photo, cv::Scalar(0.7, 1.0, 1.4), warmPhoto);
+  EXPECT_NEAR(chromaOutside(g, warmTeal * 3.0, mask), fromTeal, 0.01);
+  EXPECT_NEAR(chromaOutside(chromaGamut(warmPhoto * 0.2, mask), teal, mask), fromTeal, 0.01);
+  // a lone pixel of a colour is no colour the photo shows
+  cv::Mat speck = flat(0.7f);
+  speck.at<cv::Vec3f>(60, 80) = cv::Vec3f(0.1f, 0.45f, 0.42f);
+  cv::Mat tealPatch = flat(0.7f);
+  cv::rectangle(tealPatch, cv::Rect(60, 40, 40, 40), cv::Scalar(0.1, 0.45, 0.42), cv::FILLED);
+  EXPECT_NEAR(chromaOutside(chromaGamut(speck, mask), tealPatch, mask), 1600.0 / n, 0.01);
+  // black, non-finite and negative pixels, an empty or one-pixel mask: finite, in [0, 1]
+  cv::Mat bad = teal.clone();
+  bad.at<cv::Vec3f>(60, 80) = cv::Vec3f(std::numeric_limits<float>::quiet_NaN(),
+                                        std::numeric_limits<float>::infinity(), -1.0f);
+  const double b = chromaOutside(chromaGamut(bad, mask), bad, mask);
+  EXPECT_TRUE(b >= 0 && b <= 1);
+  const cv::Mat none = cv::Mat::zeros(kSize, CV_8UC1);
+  EXPECT_TRUE(chromaGamut(photo, none).bins.empty());
+  EXPECT_EQ(chromaOutside(g, teal, none), 0.0);
+  EXPECT_EQ(chromaOutside(chromaGamut(flat(0.0f), mask), teal, mask), 0.0);  // nothing to judge by
+  EXPECT_EQ(chromaOutside(g, flat(0.0f), mask), 0.0);
+  cv::Mat one = none.clone();
+  one.at<uint8_t>(60, 80) = 255;
+  EXPECT_TRUE(chromaGamut(photo, one).bins.empty());  // one pixel: no bin holds two
+  EXPECT_EQ(chromaOutside(g, teal, one), 0.0);        // its own median: at the centre
+  EXPECT_THROW(chromaGamut(photo, mask, 0.1f, 0.0), Exception);
+  EXPECT_THROW(chromaOutside(g, cv::Mat(kSize, CV_32FC1), mask), Exception);
+}
+
 }  // namespace
 }  // namespace ps

@@ -118,6 +118,7 @@ struct PartWork {
     double pixelRmse = 0, contrast = 0;  ///< its render's masked RMSE and typical local contrast
     double coarseContrast = 0;  ///< the typical local contrast at the coarse scale (synthesis)
     double chroma = 0;          ///< its render's chromaticity spread (synthesis)
+    double chromaOutside = 0;   ///< its render's share outside the photo's colours
     bool qualifies = true;  ///< passed the pixel-error, contrast and colour tests
   };
   std::vector<Finalist> finalists;  ///< selection by synthesis: the short fits, lowest loss first

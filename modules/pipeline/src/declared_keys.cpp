@@ -121,6 +121,7 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.maxContrastRatio)
           .add(s.coarseContrastScale)
           .add(s.maxChromaRatio)
+          .add(s.maxChromaOutside)
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit)
           .add(s.heldOut)

@@ -161,6 +161,7 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
                                            {"contrast", f.contrast},
                                            {"contrast_coarse", f.coarseContrast},
                                            {"chroma_spread", f.chroma},
+                                           {"chroma_outside", f.chromaOutside},
                                            {"qualifies", f.qualifies},
                                            {"seconds", f.seconds}});
       if (!p.finalists.empty()) {

@@ -26,8 +26,8 @@ namespace {
 // the render clipped where an integer-coded photo clips (PartView::clip); 12 = the texture tests
 // also at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 13 = and the colour test
 // (SynthesisOptions::maxChromaRatio), and a graph forced by `parts.<name>.graph` is kept whatever
-// the tests say.
-constexpr uint64_t kFitVersion = 13;
+// the tests say; 14 = the colour gamut test (SynthesisOptions::maxChromaOutside).
+constexpr uint64_t kFitVersion = 14;
 
 class FitStage : public Stage {
  public:
@@ -73,8 +73,10 @@ class FitStage : public Stage {
     // fits (select/synthesis.hpp, textureEvidence): a fitted render that misses the photo's
     // pixels by more than maxPixelErrorRatio x the homogeneous material's, or shows more than
     // maxContrastRatio x the photo's typical local contrast, or more than maxChromaRatio x its
-    // colour spread, is not the photo's texture. The full fit can drift there from a short fit
-    // that passed. A graph the user forced is not second-guessed.
+    // colour spread, or more than maxChromaOutside of its pixels in colours the photo lacks (a
+    // test made here only: a short fit's colours have not settled), is not the photo's texture.
+    // The full fit can drift there from a short fit that passed. A graph the user forced is not
+    // second-guessed.
     const SynthesisOptions selection = in.synthesisOptions();
     if (!forced && selection.anyTextureTest()) {
       const PartFitResult flat = homogeneousPartFit(in.library(), geo, photo, target, o);
@@ -83,10 +85,12 @@ class FitStage : public Stage {
         spdlog::info(
             "fit {}: {} rejected for the homogeneous material: pixel RMSE {:.4f} against its "
             "{:.4f}, typical local contrast {:.3f} against the photo's {:.3f} ({:.3f} against "
-            "{:.3f} over {} x {} cells), chromaticity spread {:.3f} against the photo's {:.3f}",
+            "{:.3f} over {} x {} cells), chromaticity spread {:.3f} against the photo's {:.3f}, "
+            "{:.0f} % of its pixels in colours the photo lacks (the flat render's {:.0f} %)",
             p.name, p.graph, e.pixelRmse, e.flatPixelRmse, e.contrast, e.photoContrast,
             e.coarseContrast, e.photoCoarseContrast, selection.coarseContrastScale,
-            selection.coarseContrastScale, e.chroma, e.photoChroma);
+            selection.coarseContrastScale, e.chroma, e.photoChroma, 100 * e.chromaOutside,
+            100 * e.flatChromaOutside);
         p.textureRejected = p.graph;
         p.values.clear();
         p.mode = PartMode::Homogeneous;

@@ -35,8 +35,10 @@ class SelectStage : public Stage {
     // contrast test made again at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 10: a
     // part's size for the small-part rule is its interior (interiorPixels), not its pixel count;
     // 11: a textured finalist's chromaticity spread at most maxChromaRatio x the photo's; 12:
-    // finalists fitted on one half of the part and scored on the other (SynthesisOptions::heldOut)
-    decl.version = 12;
+    // finalists fitted on one half of the part and scored on the other (SynthesisOptions::heldOut);
+    // 13: each finalist's share of its render in colours the photo lacks (fit.finalists[].
+    // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside)
+    decl.version = 13;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -106,7 +108,7 @@ class SelectStage : public Stage {
           for (const SynthesisFinalist& f : s.finalists) {
             p.finalists.push_back({f.graph, f.category, f.vote, f.loss, f.seconds, f.fitLoss,
                                    f.pixelRmse, f.contrast, f.coarseContrast, f.chroma,
-                                   f.qualifies});
+                                   f.chromaOutside, f.qualifies});
             // the fit goes on from the winner's short fit instead of starting over
             if (synthesis.warmStartFit && f.graph == p.graph && f.graph != "homogeneous" &&
                 p.startValues.empty()) {
@@ -148,7 +150,7 @@ class SelectStage : public Stage {
       a.putString(f.graph);
       a.putString(f.category);
       for (double x : {f.vote, f.loss, f.seconds, f.fitLoss, f.pixelRmse, f.contrast,
-                       f.coarseContrast, f.chroma})
+                       f.coarseContrast, f.chroma, f.chromaOutside})
         a.put(x);
       a.put<uint8_t>(f.qualifies ? 1 : 0);
     }
@@ -187,6 +189,7 @@ class SelectStage : public Stage {
       f.contrast = a.get<double>();
       f.coarseContrast = a.get<double>();
       f.chroma = a.get<double>();
+      f.chromaOutside = a.get<double>();
       f.qualifies = a.get<uint8_t>() != 0;
     }
     p.photoContrast = a.get<double>();

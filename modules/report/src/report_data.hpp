@@ -43,6 +43,7 @@ struct ReportFinalist {
   double contrast = 0;    ///< typical local contrast of its render (NaN: not recorded)
   double coarseContrast = 0;  ///< the same at 2 x 2 cells (NaN: not recorded)
   double chroma = 0;          ///< chromaticity spread of its render (NaN: not recorded)
+  double chromaOutside = 0;   ///< its render's share in colours the photo lacks (NaN: none)
   bool qualifies = true;      ///< passed the pixel-error, contrast and colour tests
   bool chosen = false;
 };

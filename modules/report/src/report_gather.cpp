@@ -408,6 +408,7 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
       rf.contrast = num(at(f, "contrast"));
       rf.coarseContrast = num(at(f, "contrast_coarse"));
       rf.chroma = num(at(f, "chroma_spread"));
+      rf.chromaOutside = num(at(f, "chroma_outside"));
       if (const json* q = at(f, "qualifies"); q && q->is_boolean()) rf.qualifies = q->get<bool>();
       rf.chosen = graph && graph->is_string() && graph->get<std::string>() == rf.graph;
       p.finalists.push_back(std::move(rf));

@@ -356,6 +356,8 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
           if (std::isfinite(f.coarseContrast) && f.coarseContrast > 0)
             h << " (" << fmtNum(f.coarseContrast, 3) << " at " << cells << ")";
           if (std::isfinite(f.chroma)) h << ", colour spread " << fmtNum(f.chroma, 3);
+          if (std::isfinite(f.chromaOutside) && f.chromaOutside > 0)
+            h << ", " << std::lround(100 * f.chromaOutside) << " % in colours the photo lacks";
         }
         if (!f.qualifies) h << " (more structure, colours or pixel error than the photo allows)";
       }

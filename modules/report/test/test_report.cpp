@@ -95,7 +95,13 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
         {"chroma_spread", 0.9},
         {"qualifies", false}},
        {{"graph", "plaster_stucco"}, {"loss", 0.15}, {"contrast", 0.05}, {"qualifies", true}},
-       {{"graph", "homogeneous"}, {"loss", 0.19}, {"contrast", 0.01}, {"qualifies", true}}});
+       {{"graph", "homogeneous"}, {"loss", 0.19}, {"contrast", 0.01}, {"qualifies", true}},
+       {{"graph", "wallpaper_stripes"},
+        {"loss", 0.2},
+        {"contrast", 0.05},
+        {"chroma_spread", 0.3},
+        {"chroma_outside", 0.32},
+        {"qualifies", false}}});
   m["fit"]["photo_contrast"] = 0.06;
   m["fit"]["photo_contrast_coarse"] = 0.045;
   m["fit"]["photo_chroma_spread"] = 0.2;
@@ -123,6 +129,10 @@ TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_h
                        "spread 0.9 (more structure, colours or pixel error than the photo "
                        "allows)"));
   EXPECT_TRUE(contains(cells, "Its colour spread: 0.2."));
+  // and one in colours the photo lacks (the gamut test)
+  EXPECT_TRUE(contains(cells,
+                       "wallpaper_stripes loss 0.2, contrast 0.05, colour spread 0.3, 32 % in "
+                       "colours the photo lacks (more structure, colours or pixel error"));
   // a finalist without the coarse value (a materials file written before it) shows the rest
   EXPECT_TRUE(contains(cells, "<b>plaster_stucco</b> loss 0.15, contrast 0.05;"));
   EXPECT_TRUE(contains(cells, "typical local contrast: 0.06 (0.045 at 2 x 2 cells)."));

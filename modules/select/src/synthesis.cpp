@@ -36,10 +36,19 @@ cv::Mat maskOf(const PartGeometry& geometry, cv::Size size) {
 struct Contrasts {
   LocalContrast fine, coarse;
   ChromaSpread chroma;
+  double chromaOutside = 0;  ///< share outside the photo's gamut (a render's; 0 for the photo)
 };
-Contrasts contrastsOf(const cv::Mat& image, const cv::Mat& mask, const SynthesisOptions& options) {
+/// The photo's colours for the gamut test (empty without it).
+ChromaGamut photoGamut(const cv::Mat& photo, const cv::Mat& mask, const SynthesisOptions& options) {
+  return options.maxChromaOutside > 0 ? chromaGamut(photo, mask) : ChromaGamut{};
+}
+/// `gamut`: the photo's colours, for a render (nullptr for the photo itself)
+Contrasts contrastsOf(const cv::Mat& image, const cv::Mat& mask, const SynthesisOptions& options,
+                      const ChromaGamut* gamut = nullptr) {
   Contrasts c;
-  if (options.maxChromaRatio > 0) c.chroma = chromaSpread(image, mask);
+  if (options.maxChromaRatio > 0 || options.maxChromaOutside > 0)
+    c.chroma = chromaSpread(image, mask);  // its pixel count gates both colour tests
+  if (gamut) c.chromaOutside = chromaOutside(*gamut, image, mask);
   if (options.maxContrastRatio <= 0) return c;
   c.fine = typicalLocalContrast(image, mask);
   if (options.coarseContrastScale > 1) {
@@ -69,6 +78,8 @@ TextureEvidence evidence(double pixelRmse, double flatPixelRmse, bool hasFlat,
   e.photoChroma = photo.chroma.spread;
   e.photoChromaPixels = photo.chroma.pixels;
   e.flatChroma = flat.chroma.spread;
+  e.chromaOutside = render.chromaOutside;
+  e.flatChromaOutside = flat.chromaOutside;
   e.judge(options);
   return e;
 }
@@ -121,15 +132,19 @@ void TextureEvidence::judge(const SynthesisOptions& options) {
   // no more colours than the photo shows, the flat render's own (its light's) taken off
   chromaOk = options.maxChromaRatio <= 0 || photoChromaPixels < kMinContrastPixels ||
              beyondFlat(chroma, flatChroma) <= options.maxChromaRatio * photoChroma;
+  // and hardly any pixel in colours the photo does not show, beyond the flat render's own
+  chromaOk = chromaOk && (options.maxChromaOutside <= 0 || photoChromaPixels < kMinContrastPixels ||
+                          chromaOutside - flatChromaOutside <= options.maxChromaOutside);
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
                                 const PartGeometry& geometry, const SynthesisOptions& options) {
   const cv::Mat mask = maskOf(geometry, photo.size());
+  const ChromaGamut gamut = photoGamut(photo, mask, options);
   return evidence(maskedRmse(textured, photo, geometry.pixels),
                   maskedRmse(flat, photo, geometry.pixels), !flat.empty(),
-                  contrastsOf(textured, mask, options),
-                  flat.empty() ? Contrasts{} : contrastsOf(flat, mask, options),
+                  contrastsOf(textured, mask, options, &gamut),
+                  flat.empty() ? Contrasts{} : contrastsOf(flat, mask, options, &gamut),
                   contrastsOf(photo, mask, options), options);
 }
 
@@ -153,6 +168,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "coarseContrastScale must be >= 0, got " << coarseContrastScale;
   else if (!(maxChromaRatio >= 0))
     os << "maxChromaRatio must be >= 0, got " << maxChromaRatio;
+  else if (!(maxChromaOutside >= 0 && maxChromaOutside <= 1))
+    os << "maxChromaOutside must be in [0, 1], got " << maxChromaOutside;
   else if (minHeldOutPixels < 1)
     os << "minHeldOutPixels must be >= 1, got " << minHeldOutPixels;
   if (error) *error = os.str();
@@ -239,6 +256,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   // the part's mask (the geometry's pixels) and the photo's typical local contrast over it
   const cv::Mat partMask = maskOf(geometry, photo.size());
   const Contrasts photoContrast = contrastsOf(photo, partMask, options);
+  const ChromaGamut gamut = photoGamut(photo, partMask, options);
   out.photoContrast = photoContrast.fine.median;
   out.photoCoarseContrast = photoContrast.coarse.median;
   out.photoChroma = photoContrast.chroma.spread;
@@ -299,10 +317,11 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
       f.fit.render = fits[0].render + fits[1].render;  // each zero off its half
     }
     f.pixelRmse = maskedRmse(f.fit.render, photo, geometry.pixels);
-    const Contrasts c = contrastsOf(f.fit.render, partMask, options);
+    const Contrasts c = contrastsOf(f.fit.render, partMask, options, &gamut);
     f.contrast = c.fine.median;
     f.coarseContrast = c.coarse.median;
     f.chroma = c.chroma.spread;
+    f.chromaOutside = c.chromaOutside;
     f.seconds = t.seconds();
   });
   std::stable_sort(
@@ -313,6 +332,11 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
   const auto homogeneous =
       std::find_if(out.finalists.begin(), out.finalists.end(),
                    [](const SynthesisFinalist& f) { return f.graph == kHomogeneous; });
+  // the gamut test judges the full fit only (the fit stage's textureEvidence): a short fit's
+  // colours have not converged, and a finalist turned down for them hands the part to the next
+  // textured finalist instead of the flat material
+  SynthesisOptions finalistTests = options;
+  finalistTests.maxChromaOutside = 0;
   for (SynthesisFinalist& f : out.finalists) {
     if (f.graph == kHomogeneous || homogeneous == out.finalists.end()) continue;
     Contrasts render, flat;
@@ -322,8 +346,10 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     flat.coarse.median = homogeneous->coarseContrast;
     render.chroma.spread = f.chroma;
     flat.chroma.spread = homogeneous->chroma;
+    render.chromaOutside = f.chromaOutside;
+    flat.chromaOutside = homogeneous->chromaOutside;
     f.qualifies = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat, photoContrast,
-                           options)
+                           finalistTests)
                       .ok();
   }
   const auto textured =

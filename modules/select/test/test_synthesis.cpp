@@ -98,7 +98,8 @@ SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector
                        int shortlist, int steps = 10,
                        double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio,
                        double maxContrastRatio = SynthesisOptions{}.maxContrastRatio,
-                       double maxChromaRatio = SynthesisOptions{}.maxChromaRatio) {
+                       double maxChromaRatio = SynthesisOptions{}.maxChromaRatio,
+                       double maxChromaOutside = SynthesisOptions{}.maxChromaOutside) {
   PartFitOptions fit = PartFitOptions::preset("fast");
   fit.mapSize = 64;
   SynthesisOptions o;
@@ -107,6 +108,7 @@ SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector
   o.maxPixelErrorRatio = maxPixelErrorRatio;
   o.maxContrastRatio = maxContrastRatio;
   o.maxChromaRatio = maxChromaRatio;
+  o.maxChromaOutside = maxChromaOutside;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -194,7 +196,7 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
            cv::Point(box.x + box.width * 9 / 10, box.y + box.height * 3 / 5), bright, 3);
   const std::vector<GraphVote> votes = {vote("tile_checker", "tile", 3),
                                         vote("wood_planks", "wood", 2)};
-  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0, 0);
+  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0, 0, 0);
   const SynthesisChoice on = choose(lib, s, votes, 2, 10, 0);
   std::printf("photo contrast %.4f; without the test: %s\n", on.photoContrast, off.graph.c_str());
   for (const SynthesisFinalist& f : on.finalists) {
@@ -279,7 +281,8 @@ TEST(Select_Synthesis, held_back_pixels_reject_a_texture_fitted_to_edges_on_one_
   SynthesisOptions o;
   o.shortlist = 2;
   o.steps = 10;
-  o.maxPixelErrorRatio = o.maxContrastRatio = o.maxChromaRatio = 0;  // the loss alone decides
+  // the loss alone decides
+  o.maxPixelErrorRatio = o.maxContrastRatio = o.maxChromaRatio = o.maxChromaOutside = 0;
   const TextureLossTarget target(s.photo, s.mask);
   o.heldOut = false;
   const SynthesisChoice whole = chooseBySynthesis(lib, votes, s.geo, s.photo, target, fit, o);
@@ -504,13 +507,53 @@ TEST(Select_Synthesis, texture_evidence_rejects_colours_the_photo_does_not_show)
   // colours the flat render shows too (its light) are not the texture's
   EXPECT_TRUE(textureEvidence(tiles, tiles, part.photo, part.geo, {}).chromaOk);
   SynthesisOptions off;
-  off.maxChromaRatio = 0;
+  off.maxChromaRatio = off.maxChromaOutside = 0;
   EXPECT_TRUE(textureEvidence(tiles, part.flat, part.photo, part.geo, off).chromaOk);
   std::string why;
   SynthesisOptions bad;
   bad.maxChromaRatio = -1;
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("maxChromaRatio"), std::string::npos);
+}
+
+TEST(Select_Synthesis, texture_evidence_rejects_a_colour_the_photo_lacks_within_its_spread) {
+  // The photo's spread comes from one hue: a white part whose lower third shows warm wood (the
+  // SUN RGB-D chair's mask holds the floor between its legs). A render with as few colours but
+  // another hue (white with pale teal bands) passes the spread test and fails the gamut test;
+  // white and wood in the photo's proportions, off-register, pass both.
+  const cv::Size size(96, 72);
+  const GrainyPart part = grainyPart(size, 12, 0.04f);
+  const cv::Vec3f white(1.0f, 1.0f, 1.0f), wood(1.5f, 0.95f, 0.5f), teal(0.7f, 1.05f, 1.0f);
+  auto paint = [&](const cv::Mat& grey, auto colourAt) {
+    cv::Mat out = grey.clone();
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const cv::Vec3f c = colourAt(x, y);
+        out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / luminance(c));
+      }
+    return out;
+  };
+  const cv::Mat photo = paint(part.photo, [&](int, int y) { return y >= 48 ? wood : white; });
+  const cv::Mat bands = paint(part.shifted, [&](int x, int) { return x % 8 < 2 ? teal : white; });
+  const cv::Mat planks = paint(part.shifted, [&](int, int y) { return y % 9 < 3 ? wood : white; });
+  const TextureEvidence e = textureEvidence(bands, part.flat, photo, part.geo, {});
+  std::printf("pale teal bands on a white and wood part: spread %.3f against %.3f, %.0f %% outside "
+              "the photo's colours\n",
+              e.chroma, e.photoChroma, 100 * e.chromaOutside);
+  EXPECT_LE(e.chroma, SynthesisOptions{}.maxChromaRatio * e.photoChroma);  // the spread passes
+  EXPECT_GT(e.chromaOutside, 0.2);
+  EXPECT_FALSE(e.chromaOk);
+  const TextureEvidence w = textureEvidence(planks, part.flat, photo, part.geo, {});
+  EXPECT_LT(w.chromaOutside, 0.05);
+  EXPECT_TRUE(w.chromaOk);
+  SynthesisOptions spreadOnly;
+  spreadOnly.maxChromaOutside = 0;
+  EXPECT_TRUE(textureEvidence(bands, part.flat, photo, part.geo, spreadOnly).chromaOk);
+  std::string why;
+  SynthesisOptions bad;
+  bad.maxChromaOutside = 1.5;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("maxChromaOutside"), std::string::npos);
 }
 
 }  // namespace

@@ -59,4 +59,26 @@ struct ChromaSpread {
 };
 ChromaSpread chromaSpread(const cv::Mat& image, const cv::Mat& mask, float darkFloor = 0.1f);
 
+/// Which colours a region holds, as a set: a spread counts colours but not which ones, so a
+/// photo whose spread comes from one hue (a white chair with red price tags, the floor showing
+/// between its legs) lets through a render whose spread is another (teal grout). Each pixel's
+/// c (as chromaSpread: log(R / G), log(B / G), the same dark floor) is taken relative to the
+/// region's median c (a light's colour, and a fit's error in the mean colour, move every pixel
+/// alike); the gamut is the set of `cell`-wide bins that hold at least two of the photo's pixels
+/// (a lone noisy pixel is no colour the photo shows), grown by one bin each way.
+struct ChromaGamut {
+  double cell = 0.05;         ///< bin width in log-chromaticity (5 % in a channel ratio)
+  std::vector<int64_t> bins;  ///< the gamut's bins, sorted (x * 2^32 + y, offset)
+  int pixels = 0;             ///< pixels counted
+  bool contains(double rg, double bg) const;
+};
+ChromaGamut chromaGamut(const cv::Mat& image, const cv::Mat& mask, float darkFloor = 0.1f,
+                        double cell = 0.05);
+
+/// The fraction of `image`'s counted pixels over `mask` whose chromaticity, relative to their own
+/// median, lies outside `gamut`: the share of a render in colours the photo does not show. 0 when
+/// no pixel counts or the gamut is empty (nothing to judge by).
+double chromaOutside(const ChromaGamut& gamut, const cv::Mat& image, const cv::Mat& mask,
+                     float darkFloor = 0.1f);
+
 }  // namespace ps

@@ -78,6 +78,15 @@ struct SynthesisOptions {
   /// white chair went to tile_encaustic in blue and orange (the mean colour right, the loss
   /// satisfied) and a white refrigerator to a striped rug in rainbow speckles.
   double maxChromaRatio = 1.5;
+  /// ... and at most this fraction of the full fit's render (beyond the flat render's own) may
+  /// lie in colours the photo does not show (features/texture_contrast.hpp, chromaGamut /
+  /// chromaOutside; 0: no such test). The spread above counts colours, not which: the SUN RGB-D
+  /// white chair's mask holds red price tags and the floor between its legs, a spread of 0.53,
+  /// and tile_encaustic's teal and orange (0.59) passed it. Judged on the full fit only
+  /// (textureEvidence, the fit stage): a finalist's short fit has not settled its colours, and
+  /// turning it down there hands the part to the next textured finalist, not to the flat
+  /// material. The finalists' shares are reported (SynthesisFinalist::chromaOutside).
+  double maxChromaOutside = 0.1;
   /// Model selection on held-back pixels (issue 17, item 4): the part's pixels are cut in two
   /// halves across its longest extent; every finalist (the homogeneous one too) is fitted on each
   /// half and scored on the other by the loss's data terms (PartFitResult::lossData), and its
@@ -106,7 +115,8 @@ struct SynthesisOptions {
   bool warmStartFit = false;
   /// True when any of the pixel-error, contrast and colour tests is on (TextureEvidence::judge).
   bool anyTextureTest() const {
-    return maxPixelErrorRatio > 0 || maxContrastRatio > 0 || maxChromaRatio > 0;
+    return maxPixelErrorRatio > 0 || maxContrastRatio > 0 || maxChromaRatio > 0 ||
+           maxChromaOutside > 0;
   }
   bool IsValid(std::string* error) const;
 };
@@ -123,6 +133,7 @@ struct SynthesisFinalist {
   double contrast = 0;   ///< typical local contrast of its render over the part (median)
   double coarseContrast = 0;  ///< the same at coarseContrastScale (0 without that test)
   double chroma = 0;          ///< chromaticity spread of its render over the part
+  double chromaOutside = 0;   ///< share of its render outside the photo's colours (chromaOutside)
   bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
   double seconds = 0;  ///< of the short fit
   /// the short fit (values, UV, roughness; the fit starts there if warmStartFit): with held-back
@@ -166,6 +177,8 @@ struct TextureEvidence {
   /// chromaticity spreads: the render's, the photo's (over photoChromaPixels), the flat render's
   double chroma = 0, photoChroma = 0, flatChroma = 0;
   int photoChromaPixels = 0;
+  /// shares of the render's and the flat render's pixels in colours the photo does not show
+  double chromaOutside = 0, flatChromaOutside = 0;
   bool pixelsOk = true, contrastOk = true, chromaOk = true;
   bool ok() const { return pixelsOk && contrastOk && chromaOk; }
   /// Sets pixelsOk, contrastOk and chromaOk from the numbers above (the one place the tests are
