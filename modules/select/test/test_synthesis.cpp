@@ -473,6 +473,18 @@ TEST(Select_Synthesis, texture_evidence_at_coarser_cells_rejects_blotches_on_a_g
   EXPECT_NE(why.find("coarseContrastScale"), std::string::npos);
 }
 
+/// `grey` with each pixel in the colour colourAt(x, y), at the pixel's own luminance (Rec. 709).
+template <class ColourAt>
+cv::Mat painted(const cv::Mat& grey, ColourAt colourAt) {
+  cv::Mat out = grey.clone();
+  for (int y = 0; y < grey.rows; ++y)
+    for (int x = 0; x < grey.cols; ++x) {
+      const cv::Vec3f c = colourAt(x, y);
+      out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / luminance(c));
+    }
+  return out;
+}
+
 TEST(Select_Synthesis, texture_evidence_rejects_colours_the_photo_does_not_show) {
   // A white part with grain (a painted chair); a render with the same grain and luminance but
   // in blue and orange patches (tile_encaustic on the SUN RGB-D chair): the contrast test passes
@@ -480,16 +492,11 @@ TEST(Select_Synthesis, texture_evidence_rejects_colours_the_photo_does_not_show)
   const cv::Size size(96, 72);
   const GrainyPart part = grainyPart(size, 12, 0.04f);
   auto coloured = [&](const cv::Mat& grey, int dx) {
-    cv::Mat out = grey.clone();
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width; ++x) {
-        // blue or orange at the grey's luminance (Rec. 709 weights)
-        const bool orange = (((x + dx) / 12 + y / 12) & 1) != 0;
-        const cv::Vec3f c = orange ? cv::Vec3f(1.3f, 0.95f, 0.5f) : cv::Vec3f(0.55f, 1.0f, 1.6f);
-        const float l = luminance(c);
-        out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / l);
-      }
-    return out;
+    // blue or orange at the grey's luminance
+    return painted(grey, [&](int x, int y) {
+      const bool orange = (((x + dx) / 12 + y / 12) & 1) != 0;
+      return orange ? cv::Vec3f(1.3f, 0.95f, 0.5f) : cv::Vec3f(0.55f, 1.0f, 1.6f);
+    });
   };
   const cv::Mat tiles = coloured(part.shifted, 0);
   const TextureEvidence e = textureEvidence(tiles, part.flat, part.photo, part.geo, {});
@@ -524,18 +531,9 @@ TEST(Select_Synthesis, texture_evidence_rejects_a_colour_the_photo_lacks_within_
   const cv::Size size(96, 72);
   const GrainyPart part = grainyPart(size, 12, 0.04f);
   const cv::Vec3f white(1.0f, 1.0f, 1.0f), wood(1.5f, 0.95f, 0.5f), teal(0.7f, 1.05f, 1.0f);
-  auto paint = [&](const cv::Mat& grey, auto colourAt) {
-    cv::Mat out = grey.clone();
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width; ++x) {
-        const cv::Vec3f c = colourAt(x, y);
-        out.at<cv::Vec3f>(y, x) = grey.at<cv::Vec3f>(y, x).mul(c / luminance(c));
-      }
-    return out;
-  };
-  const cv::Mat photo = paint(part.photo, [&](int, int y) { return y >= 48 ? wood : white; });
-  const cv::Mat bands = paint(part.shifted, [&](int x, int) { return x % 8 < 2 ? teal : white; });
-  const cv::Mat planks = paint(part.shifted, [&](int, int y) { return y % 9 < 3 ? wood : white; });
+  const cv::Mat photo = painted(part.photo, [&](int, int y) { return y >= 48 ? wood : white; });
+  const cv::Mat bands = painted(part.shifted, [&](int x, int) { return x % 8 < 2 ? teal : white; });
+  const cv::Mat planks = painted(part.shifted, [&](int, int y) { return y % 9 < 3 ? wood : white; });
   const TextureEvidence e = textureEvidence(bands, part.flat, photo, part.geo, {});
   std::printf("pale teal bands on a white and wood part: spread %.3f against %.3f, %.0f %% outside "
               "the photo's colours\n",
