@@ -38,51 +38,45 @@ PartFitOptions PartFitOptions::preset(const std::string& name) {
     o.searchLevels = 1;
     o.searchKeep = 16;
     o.spectrumScaleWindow = 0.0f;  // the paper's whole scale grid, no spectral prior
-  } else if (name == "balanced") {
-    // chosen with ps_bench_part_fit (modules/optim/README.md): the search's ranking and 20 steps
-    // at half resolution, the last 20 steps at full resolution. Against the truth (4 graphs x 2
-    // lightings at 21k pixels) 40 steps reached a lower texture distance than 100 (0.00102 against
-    // 0.00140; mean albedo error 0.014 against 0.013) in 77 % of the time.
-    o.maxIterations = 40;
-    o.mapSize = 128;
-    o.uvSearchEvery = 0;  // a second search at 100 cost 40% more and changed no result measured
-    o.searchRotations = 24;
+  } else if (name == "balanced" || name == "fast") {
+    // both: the search's ranking at half resolution (coarseLevels 1, searchLevels 2), one search
+    // at the start, two refining steps, and the terms that keep roughness and albedo plausible
+    o.mapSize = 128;  // fast: at 64 the checker's tiles alias and the search picks a wrong period
+    o.uvSearchEvery = 0;  // balanced: a second search at 100 cost 40% more, changed no result
     o.searchLogScales = 9;
     o.searchOffsets = 1;
     o.refineSteps = 2;
     o.coarseLevels = 1;
     o.searchLevels = 2;
-    o.searchKeep = 8;
-    o.fineIterations = 20;
-    o.plateau = PlateauOptions{20, 2e-3, 60};
-    // the placement term (modules/optim/README.md): wood_planks, tile_checker, brick_red x lights
-    // 12 and 30 at 160x120, against 0: placement to the truth 0.299 -> 0.046 (mean), texture
-    // distance to the truth 0.00105 -> 0.00077, mean albedo error 0.0100 -> 0.0115, CPU +35 %
-    o.placementWeight = 0.1f;
     o.roughnessPriorWeight = 0.01f;
     o.roughnessCandidates = 9;
     o.highlightWeight = 0.1f;
     o.albedoCeilingWeight = 0.1f;
-  } else if (name == "fast") {
-    // 30 steps, 10 at full resolution: against the truth at 21k pixels a texture distance of
-    // 0.0036 (80 steps gave 0.0064 on wood and the checker) in 69 % of balanced's time
-    o.maxIterations = 30;
-    o.mapSize = 128;  // at 64 the checker's tiles alias and the search picks a wrong period
-    o.uvSearchEvery = 0;
-    o.searchRotations = 16;
-    o.searchLogScales = 9;
-    o.searchOffsets = 1;
-    o.refineSteps = 2;
-    o.coarseLevels = 1;
-    o.searchLevels = 2;
-    o.searchKeep = 4;
-    o.fineIterations = 10;
-    o.learningRate = 0.03f;
-    o.plateau = PlateauOptions{15, 3e-3, 40};
-    o.roughnessPriorWeight = 0.01f;
-    o.roughnessCandidates = 9;
-    o.highlightWeight = 0.1f;
-    o.albedoCeilingWeight = 0.1f;
+    if (name == "balanced") {
+      // chosen with ps_bench_part_fit (modules/optim/README.md): 20 steps at half resolution,
+      // the last 20 at full resolution. Against the truth (4 graphs x 2 lightings at 21k pixels)
+      // 40 steps reached a lower texture distance than 100 (0.00102 against 0.00140; mean albedo
+      // error 0.014 against 0.013) in 77 % of the time.
+      o.maxIterations = 40;
+      o.searchRotations = 24;
+      o.searchKeep = 8;
+      o.fineIterations = 20;
+      o.plateau = PlateauOptions{20, 2e-3, 60};
+      // the placement term (modules/optim/README.md): wood_planks, tile_checker, brick_red x
+      // lights 12 and 30 at 160x120, against 0: placement to the truth 0.299 -> 0.046 (mean),
+      // texture distance to the truth 0.00105 -> 0.00077, mean albedo error 0.0100 -> 0.0115,
+      // CPU +35 %
+      o.placementWeight = 0.1f;
+    } else {
+      // 30 steps, 10 at full resolution: against the truth at 21k pixels a texture distance of
+      // 0.0036 (80 steps gave 0.0064 on wood and the checker) in 69 % of balanced's time
+      o.maxIterations = 30;
+      o.searchRotations = 16;
+      o.searchKeep = 4;
+      o.fineIterations = 10;
+      o.learningRate = 0.03f;
+      o.plateau = PlateauOptions{15, 3e-3, 40};
+    }
   } else {
     PS_Check(false, "PartFitOptions::preset: unknown preset '" + name + "' (paper, balanced, fast)");
   }

@@ -93,22 +93,19 @@ Part renderFloor(const MaterialMaps* maps) {
   return s;
 }
 
-/// chooseBySynthesis on the floor with `shortlist` graphs of the vote, `steps` steps, maps of 64.
-SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
-                       int shortlist, int steps = 10,
-                       double maxPixelErrorRatio = SynthesisOptions{}.maxPixelErrorRatio,
-                       double maxContrastRatio = SynthesisOptions{}.maxContrastRatio,
-                       double maxChromaRatio = SynthesisOptions{}.maxChromaRatio,
-                       double maxChromaOutside = SynthesisOptions{}.maxChromaOutside) {
-  PartFitOptions fit = PartFitOptions::preset("fast");
-  fit.mapSize = 64;
+/// Synthesis options with `shortlist` graphs of the vote and `steps` steps, the tests as default.
+SynthesisOptions finalists(int shortlist, int steps = 10) {
   SynthesisOptions o;
   o.shortlist = shortlist;
   o.steps = steps;
-  o.maxPixelErrorRatio = maxPixelErrorRatio;
-  o.maxContrastRatio = maxContrastRatio;
-  o.maxChromaRatio = maxChromaRatio;
-  o.maxChromaOutside = maxChromaOutside;
+  return o;
+}
+
+/// chooseBySynthesis on the floor with options `o` and maps of 64.
+SynthesisChoice choose(const GraphLibrary& lib, const Part& s, const std::vector<GraphVote>& votes,
+                       const SynthesisOptions& o) {
+  PartFitOptions fit = PartFitOptions::preset("fast");
+  fit.mapSize = 64;
   return chooseBySynthesis(lib, votes, s.geo, s.photo, TextureLossTarget(s.photo, s.mask), fit, o);
 }
 
@@ -139,7 +136,7 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
   // after the point), the flat material explains this floor better than before (loss 0.044 ->
   // 0.013), and the true graph's short fit from its defaults needs more steps to beat it by the
   // margin: 0.0159 at 10 steps, 0.0120 at 20 (was 0.0337 against 0.0440 at 10)
-  const SynthesisChoice c = choose(lib, s, votes, 3, 20);
+  const SynthesisChoice c = choose(lib, s, votes, finalists(3, 20));
   for (const SynthesisFinalist& f : c.finalists)
     std::printf("  %-16s loss %.4f (own pixels %.4f) rmse %.4f contrast %.4f %s\n", f.graph.c_str(),
                 f.loss, f.fitLoss, f.pixelRmse, f.contrast, f.qualifies ? "" : "(fails a test)");
@@ -166,7 +163,9 @@ TEST(Select_Synthesis, short_fits_on_the_part_overrule_a_wrong_vote) {
               c.finalists.front().graph.c_str(), c.finalists.front().pixelRmse, flat->pixelRmse, ratio);
   EXPECT_GT(flat->pixelRmse, 0);
   EXPECT_LT(ratio, SynthesisOptions{}.maxPixelErrorRatio);
-  const SynthesisChoice strict = choose(lib, s, votes, 3, 20, 0.9 * ratio);
+  SynthesisOptions strictOptions = finalists(3, 20);
+  strictOptions.maxPixelErrorRatio = 0.9 * ratio;
+  const SynthesisChoice strict = choose(lib, s, votes, strictOptions);
   EXPECT_EQ(strict.graph, "homogeneous");
 }
 
@@ -175,7 +174,7 @@ TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {
   const Part s = renderFloor(nullptr);
   const std::vector<GraphVote> votes = {vote("wood_planks", "wood", 3),
                                         vote("stone_marble_white", "stone", 2)};
-  const SynthesisChoice c = choose(lib, s, votes, 2);
+  const SynthesisChoice c = choose(lib, s, votes, finalists(2));
   EXPECT_EQ(c.graph, "homogeneous");
   for (const SynthesisFinalist& f : c.finalists) {
     EXPECT_TRUE(std::isfinite(f.loss)) << f.graph;
@@ -196,8 +195,12 @@ TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contras
            cv::Point(box.x + box.width * 9 / 10, box.y + box.height * 3 / 5), bright, 3);
   const std::vector<GraphVote> votes = {vote("tile_checker", "tile", 3),
                                         vote("wood_planks", "wood", 2)};
-  const SynthesisChoice off = choose(lib, s, votes, 2, 10, 0, 0, 0, 0);
-  const SynthesisChoice on = choose(lib, s, votes, 2, 10, 0);
+  SynthesisOptions offOptions = finalists(2), onOptions = finalists(2);
+  offOptions.maxPixelErrorRatio = offOptions.maxContrastRatio = 0;
+  offOptions.maxChromaRatio = offOptions.maxChromaOutside = 0;
+  onOptions.maxPixelErrorRatio = 0;
+  const SynthesisChoice off = choose(lib, s, votes, offOptions);
+  const SynthesisChoice on = choose(lib, s, votes, onOptions);
   std::printf("photo contrast %.4f; without the test: %s\n", on.photoContrast, off.graph.c_str());
   for (const SynthesisFinalist& f : on.finalists) {
     EXPECT_TRUE(std::isfinite(f.contrast)) << f.graph;
