@@ -38,15 +38,19 @@ cv::Mat atSize(const cv::Mat& m, int size) {
   return out;
 }
 
-// The maps of a fitted part at the texture size: the graph re-evaluated at the next power of two
-// (never upsampled), area-downsampled when the size is not one.
+// The maps of a fitted part at the texture size: the graph re-evaluated at the next power of two,
+// and at least at the fit's map size, then area-downsampled to the size. Below the fit's size a
+// graph drawn directly is not the fitted map made smaller: a pattern finer than a texel aliases
+// (fabric_windowpane's grid drawn at 64 texels kept its vertical lines only, each a texel wide,
+// and the twin rendered dark stripes that the fit, at 128, never saw).
 void writeTextures(const Reads& in, const PartWork& p, io::MaterialFileDesc& m,
                    const fs::path& out) {
   const int size = in.textureSize();
   MaterialGraph g = in.library().create(p.graph);
   g.setValues(p.values);
-  const MaterialMaps maps = g.evaluate(
-      nextPowerOfTwo(size), MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
+  const MaterialMaps maps =
+      g.evaluate(std::max(nextPowerOfTwo(size), nextPowerOfTwo(in.fitOptions().mapSize)),
+                 MapSet::of({MapKind::Albedo, MapKind::Normal, MapKind::Roughness}));
   const fs::path tex = out / "textures";
   fs::create_directories(tex);
   const cv::Mat albedo = atSize(maps.albedo, size);
@@ -311,8 +315,9 @@ namespace {
 class ExportStage : public Stage {
  public:
   explicit ExportStage(std::vector<std::string> after) : Stage("export") {
-    // 9: fit.coarse_contrast_scale in the materials files
-    decl.version = 9;
+    // 9: fit.coarse_contrast_scale in the materials files; 10: maps below the fit's map size are
+    // the graph at that size, area-downsampled (writeTextures)
+    decl.version = 10;
     decl.scene = {""};
     decl.options = {"texture_size", "preset",     "render_spp", "denoise",
                     "baseline",     "write_gltf", "library",    "selection"};
