@@ -943,9 +943,9 @@ void contactSheet(const Options& o, const std::vector<std::string>& materials,
     std::string cat;
     for (const PartScore& p : rows)
       if (p.material == m) cat = p.category;
-    cv::putText(sheet, m.substr(0, 24), {4, y0 + tile / 2}, cv::FONT_HERSHEY_SIMPLEX, 0.33,
-                {0, 0, 0}, 1, cv::LINE_AA);
-    cv::putText(sheet, "(" + cat + ", " + splitOf(m) + ")", {4, y0 + tile / 2 + 14},
+    cv::putText(sheet, m.substr(0, 24), {4, y0 + caption + tile / 2}, cv::FONT_HERSHEY_SIMPLEX,
+                0.33, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(sheet, "(" + cat + ", " + splitOf(m) + ")", {4, y0 + caption + tile / 2 + 14},
                 cv::FONT_HERSHEY_SIMPLEX, 0.33, {0, 0, 0}, 1, cv::LINE_AA);
     x0 = label;
     for (const std::string& part : kTexturedParts) {
@@ -963,7 +963,7 @@ void contactSheet(const Options& o, const std::vector<std::string>& materials,
                        cv::Size(std::max(1, static_cast<int>(box.width * s)),
                                 std::max(1, static_cast<int>(box.height * s))),
                        0, 0, cv::INTER_AREA);
-            r.copyTo(sheet(cv::Rect(x0 + k * tile, y0, r.cols, r.rows)));
+            r.copyTo(sheet(cv::Rect(x0 + k * tile, y0 + caption, r.cols, r.rows)));
           }
         }
       }
@@ -971,7 +971,8 @@ void contactSheet(const Options& o, const std::vector<std::string>& materials,
         if (p.material == m && p.lighting == lighting && p.part == part) {
           const cv::Scalar color =
               p.chosenCategory == p.category ? cv::Scalar(0, 120, 0) : cv::Scalar(200, 0, 0);
-          cv::putText(sheet, p.graph.substr(0, 26), {x0 + tile / 2, y0 + tile + caption - 3},
+          // the chosen graph above its crops (below them it read as the next row's)
+          cv::putText(sheet, p.graph.substr(0, 26), {x0 + tile / 2, y0 + caption - 4},
                       cv::FONT_HERSHEY_SIMPLEX, 0.32, color, 1, cv::LINE_AA);
         }
       x0 += 2 * tile + 6;
