@@ -423,16 +423,35 @@ TEST(Stages_Runner, a_new_stage_is_keyed_cached_and_reported_from_its_declaratio
 
 // ---------------------------------------------------------------- stale cache (issue 21)
 
+/// The bundled sample's scene.json with its files named by absolute path (to be written elsewhere).
+nlohmann::json sampleSceneJson() {
+  nlohmann::json j = io::readJsonFile(kSample / "scene.json");
+  j["geometry"] = (kSample / "room.obj").string();
+  j["views"][0]["image"] = (kSample / "photos/view0.png").string();
+  j["views"][0]["segments"] = (kSample / "segments/view0.png").string();
+  return j;
+}
+
+/// A quick run of `scene` into `out`: 96 px wide, 2 fit steps, 16-texel maps, 2 spp, no glTF or
+/// report.
+PipelineOptions quickRun(const fs::path& scene, const fs::path& out) {
+  PipelineOptions o = sampleOptions(scene, out);
+  o.workWidth = 96;
+  o.maxFitIterations = 2;
+  o.textureSize = 16;
+  o.renderSpp = 2;
+  o.evalSpp = 2;
+  o.writeGltf = o.writeReport = false;
+  return o;
+}
+
 // A small, quick version of the sample (working width 96, two fit iterations) with a fixed
 // material and an environment light seen through a window, run once; each test edits one of them
 // and reruns into the same output folder.
 class StaleCache : public test::SharedRun<StaleCache> {
  protected:
   static nlohmann::json baseScene() {
-    nlohmann::json j = io::readJsonFile(kSample / "scene.json");
-    j["geometry"] = (kSample / "room.obj").string();
-    j["views"][0]["image"] = (kSample / "photos/view0.png").string();
-    j["views"][0]["segments"] = (kSample / "segments/view0.png").string();
+    nlohmann::json j = sampleSceneJson();
     j["parts"]["cabinet"]["fixed"] = {{"albedo", {0.6, 0.5, 0.4}}, {"roughness", 0.5}};
     j["lights"]["environment"] = {{"image", (dir_->path() / "sky.exr").string()},
                                   {"window_parts", {"wall_front"}},
@@ -441,14 +460,7 @@ class StaleCache : public test::SharedRun<StaleCache> {
   }
   static PipelineResult run(const nlohmann::json& scene) {
     io::writeJsonFile(dir_->path() / "scene.json", scene);
-    PipelineOptions o = sampleOptions(dir_->path() / "scene.json", dir_->path() / "twin");
-    o.workWidth = 96;
-    o.maxFitIterations = 2;
-    o.textureSize = 16;
-    o.renderSpp = 2;
-    o.evalSpp = 2;
-    o.writeGltf = o.writeReport = false;
-    return runPipeline(o);
+    return runPipeline(quickRun(dir_->path() / "scene.json", dir_->path() / "twin"));
   }
   static void SetUpTestSuite() {
     dir_ = std::make_unique<io::TempDir>("ps-stale");
@@ -498,19 +510,11 @@ TEST_F(StaleCache, an_edited_fixed_material_recomputes_the_lights_and_the_grids)
 // at 64 texels kept its vertical lines only, and the twin rendered stripes the fit never saw).
 TEST(Stages_Export, maps_below_the_fits_size_are_the_fitted_map_downsampled) {
   io::TempDir dir("ps-export-size");
-  nlohmann::json j = io::readJsonFile(kSample / "scene.json");
-  j["geometry"] = (kSample / "room.obj").string();
-  j["views"][0]["image"] = (kSample / "photos/view0.png").string();
-  j["views"][0]["segments"] = (kSample / "segments/view0.png").string();
+  nlohmann::json j = sampleSceneJson();
   j["parts"]["wall_back"]["graph"] = "fabric_windowpane";
   io::writeJsonFile(dir.path() / "scene.json", j);
-  PipelineOptions o = sampleOptions(dir.path() / "scene.json", dir.path() / "twin");
-  o.workWidth = 96;
-  o.maxFitIterations = 2;
-  o.textureSize = 16;
-  o.renderSpp = 2;
-  o.evalSpp = 2;
-  o.writeGltf = o.writeReport = false;
+  const PipelineOptions o = quickRun(dir.path() / "scene.json", dir.path() / "twin");
+  ASSERT_EQ(o.textureSize, 16);
   const PipelineResult r = runPipeline(o);
   const nlohmann::json m = io::readJsonFile(r.out / "materials/wall_back.json");
   ASSERT_EQ(m["graph"], "fabric_windowpane");
