@@ -346,8 +346,6 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     flat.coarse.median = homogeneous->coarseContrast;
     render.chroma.spread = f.chroma;
     flat.chroma.spread = homogeneous->chroma;
-    render.chromaOutside = f.chromaOutside;
-    flat.chromaOutside = homogeneous->chromaOutside;
     f.qualifies = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat, photoContrast,
                            finalistTests)
                       .ok();
