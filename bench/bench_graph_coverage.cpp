@@ -3,7 +3,7 @@
 //
 //   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
 //                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
-//                           [--csv FILE] [--sheet FILE.png] [--seed 1]
+//                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 0]
 //
 // Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
 // textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
@@ -20,7 +20,7 @@
 // d_self = the mean of ps::eval::textureDistance between the target view and each reference (the
 // texture against itself at a random UV offset).
 // Fit, per graph of the category: the features texture loss (TextureLossTarget on the texture view
-// at offset o1, full mask) of the graph's view, Adam on the graph's continuous parameters
+// at offset o1, full mask; --sliced W adds its colour distribution group with weight W) of the graph's view, Adam on the graph's continuous parameters
 // (normalised to [0, 1], learning rate 0.03; the albedo offset starts at the value that matches the
 // view's mean colour), through render = albedo * n_z and MaterialGraph::
 // backward. Each scale k gets --probe steps from the defaults; the best continues to --iterations
@@ -232,6 +232,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
+  float sliced = 0.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -242,6 +243,7 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csvPath, "per-material CSV");
   app.add_option("--sheet", sheetPath, "contact sheet PNG (texture | fitted graph)");
   app.add_option("--seed", seed, "random offsets");
+  app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (view < 64 || (view & (view - 1)))
@@ -289,7 +291,9 @@ int main(int argc, char** argv) {
       r.dSelf /= 4.0;
       std::vector<ps::eval::TextureHistograms> cmp;
       for (const auto& o : others) cmp.push_back(ps::eval::textureHistograms(o, mask));
-      const ps::TextureLossTarget target(r.texView, mask);
+      ps::TextureLossOptions lossOptions;
+      lossOptions.weights.colorSliced = sliced;
+      const ps::TextureLossTarget target(r.texView, mask, lossOptions);
       for (const auto& name : lib.namesInCategory(r.mat.category)) {
         Fit f = fitGraph(lib, name, target, cmp, mask, cv::mean(r.texView), view, probe, iterations,
                          rng);

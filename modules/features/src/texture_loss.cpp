@@ -3,6 +3,7 @@
 #include "gabor_pyramid.hpp"
 #include "gradient_check.hpp"
 #include "ps_statistics.hpp"
+#include "sliced_colour.hpp"
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/image.hpp"
 #include "photoscene/core/color.hpp"
@@ -23,7 +24,8 @@ bool TextureLossOptions::IsValid(std::string* error) const {
   if (!ps.IsValid(error)) return false;
   if (!(w.colorMean >= 0 && w.colorStd >= 0 && w.bandMeanRe >= 0 && w.bandStdRe >= 0 &&
         w.bandMeanMag >= 0 && w.bandStdMag >= 0 && w.psAutoLowpass >= 0 && w.psAutoMagnitude >= 0 &&
-        w.psCrossOrientation >= 0 && w.psCrossScale >= 0 && w.psColor >= 0))
+        w.psCrossOrientation >= 0 && w.psCrossScale >= 0 && w.psColor >= 0 &&
+        w.colorSliced >= 0))
     msg = "loss weights must be >= 0";
   else if (!w.scale.empty() && static_cast<int>(w.scale.size()) != descriptor.numScales)
     msg = "weights.scale must be empty or have numScales entries";
@@ -50,6 +52,8 @@ struct TextureLossTarget::Impl {
   std::vector<int> psEntryGroup;
   std::vector<float> psValues;
   cv::Vec3d noise{0, 0, 0};  // the photo's pixel noise taken off targetValues
+  // colour distribution (active when weights.colorSliced > 0)
+  SlicedTarget sliced;
 };
 
 namespace {
@@ -122,6 +126,7 @@ cv::Vec3d estimatePixelNoise(const cv::Mat& photo, const cv::Mat& mask, int minP
 struct TextureLossWorkspace {
   ForwardState state;
   PsState ps;
+  SlicedState sliced;
 };
 
 TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
@@ -148,6 +153,7 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
   }
   const int S = o.numScales, K = o.numOrientations, SK = S * K;
   const TextureLossWeights& w = options.weights;
+  if (w.colorSliced > 0) m.sliced = makeSlicedTarget(st.rgb, m.pyramid.mask0, m.nu, m.noise);
   m.entryWeight.assign(descriptorLength(o), 0.0);
   m.entryGroup.assign(descriptorLength(o), 0);
   const double inv = 1.0 / (m.nu * m.nu);
@@ -249,6 +255,12 @@ double textureLossForward(TextureLossParams& params) {
     }
     params.renderPs.assign(ps.values.begin(), ps.values.end());
   }
+  params.slicedLoss = 0.0;
+  if (t.options.weights.colorSliced > 0) {
+    params.slicedLoss = t.options.weights.colorSliced *
+                        slicedForward(st.rgb, t.sliced, params.workspace->sliced);
+    loss += params.slicedLoss;
+  }
   params.loss = loss;
   params.renderDescriptor = toDescriptor(st, t.pyramid, t.options.descriptor);
   return loss;
@@ -275,6 +287,9 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
   } else {
     backwardDescriptor(t.pyramid, t.bank, t.options.descriptor, st, g, gradCrop);
   }
+  if (t.options.weights.colorSliced > 0)
+    slicedBackward(t.sliced, params.workspace->sliced,
+                   double(gradLoss) * t.options.weights.colorSliced, gradCrop);
   const bool reuse = accumulate && gradRender.type() == CV_32FC3 && gradRender.size() == t.size;
   if (!reuse) {
     gradRender.create(t.size, CV_32FC3);

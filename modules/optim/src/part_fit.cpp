@@ -97,8 +97,8 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (!(placementSigma >= 0.5f && placementSigma <= 32.0f)) return fail("placementSigma must be in [0.5, 32]");
   if (placementOffsets < 0) return fail("placementOffsets must be >= 0");
   if (!(psAutoLowpass >= 0) || !(psAutoMagnitude >= 0) || !(psCrossOrientation >= 0) || !(psCrossScale >= 0) ||
-      !(psColor >= 0))
-    return fail("the ps* texture weights must be >= 0");
+      !(psColor >= 0) || !(colorSliced >= 0))
+    return fail("the ps* and colorSliced texture weights must be >= 0");
   if (searchRotations < 1 || searchLogScales < 1 || searchOffsets < 1) return fail("search grids need >= 1 entry");
   if (!(spectrumScaleWindow >= 0)) return fail("spectrumScaleWindow must be >= 0");
   if (!(logScaleMax >= logScaleMin)) return fail("logScaleMax < logScaleMin");
@@ -182,20 +182,23 @@ struct Level {
   std::vector<cv::Point> highlight;                // when highlightWeight > 0 (may be empty)
 };
 
-bool anyPs(const PartFitOptions& o) {
+// Weights of the texture loss that the fit sets itself (its own targets then).
+bool ownTextureWeights(const PartFitOptions& o) {
   return o.psAutoLowpass > 0 || o.psAutoMagnitude > 0 || o.psCrossOrientation > 0 || o.psCrossScale > 0 ||
-         o.psColor > 0;
+         o.psColor > 0 || o.colorSliced > 0;
 }
 
-// The texture-loss options the fit uses: the caller's, with the fit's joint-statistics weights.
+// The texture-loss options the fit uses: the caller's, with the fit's joint-statistics and colour
+// distribution weights.
 TextureLossOptions fitTextureOptions(const TextureLossOptions& caller, const PartFitOptions& o) {
   TextureLossOptions t = caller;
-  if (anyPs(o)) {
+  if (ownTextureWeights(o)) {
     t.weights.psAutoLowpass = o.psAutoLowpass;
     t.weights.psAutoMagnitude = o.psAutoMagnitude;
     t.weights.psCrossOrientation = o.psCrossOrientation;
     t.weights.psCrossScale = o.psCrossScale;
     t.weights.psColor = o.psColor;
+    t.weights.colorSliced = o.colorSliced;
   }
   return t;
 }
@@ -219,9 +222,9 @@ class PartFitter {
     levels_[0].photo = photo;
     levels_[0].target = &target;
     const TextureLossOptions texOptions = fitTextureOptions(target.options(), o);
-    if (anyPs(o) || o.placementWeight > 0) {
+    if (ownTextureWeights(o) || o.placementWeight > 0) {
       const cv::Mat mask0 = maskOf(geo);
-      if (anyPs(o)) {
+      if (ownTextureWeights(o)) {
         levels_[0].ownTarget = std::make_unique<TextureLossTarget>(photo, mask0, texOptions);
         levels_[0].target = levels_[0].ownTarget.get();
       }

@@ -60,6 +60,8 @@ struct TextureLossWeights {
   float psCrossOrientation = 0.0f;
   float psCrossScale = 0.0f;
   float psColor = 0.0f;
+  /// The colour distribution (sliced Wasserstein, see the top; 0: not computed).
+  float colorSliced = 0.0f;
   bool anyPs() const {
     return psAutoLowpass > 0 || psAutoMagnitude > 0 || psCrossOrientation > 0 || psCrossScale > 0 ||
            psColor > 0;
@@ -144,6 +146,8 @@ struct TextureLossParams {
   double psGroupLoss[5] = {0, 0, 0, 0, 0};
   /// The render's joint statistics (texture_ps.hpp layout; empty when every ps weight is 0).
   std::vector<float> renderPs;
+  /// Contribution of the colour distribution (weights.colorSliced times the distance; 0 when off).
+  double slicedLoss = 0.0;
 
   // ---- workspace (written by forward, read by backward) ----
   std::shared_ptr<TextureLossWorkspace> workspace;

@@ -84,6 +84,9 @@ struct PartFitOptions {
   /// the geometry's pixels); all 0 = the caller's target as it is.
   float psAutoLowpass = 0.0f, psAutoMagnitude = 0.0f, psCrossOrientation = 0.0f,
         psCrossScale = 0.0f, psColor = 0.0f;
+  /// The texture loss's colour distribution (TextureLossWeights::colorSliced), the same way: > 0
+  /// builds the fit's own targets with it.
+  float colorSliced = 0.0f;
   /// Weight of the roughness prior L_prior (0 = off; roughness free in [0.02, 1]). On, the fit
   /// also keeps the roughness in the prior's [min, max] and starts it there.
   float roughnessPriorWeight = 0.0f;
