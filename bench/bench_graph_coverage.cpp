@@ -3,7 +3,7 @@
 //
 //   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
 //                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
-//                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 0]
+//                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 4]
 //
 // Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
 // textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
@@ -19,15 +19,16 @@
 // Yardstick: one texture view is the fit's target; 4 more at random offsets are the references.
 // d_self = the mean of ps::eval::textureDistance between the target view and each reference (the
 // texture against itself at a random UV offset).
-// Fit, per graph of the category: the features texture loss (TextureLossTarget on the texture view
-// at offset o1, full mask; --sliced W adds its colour distribution group with weight W) of the graph's view, Adam on the graph's continuous parameters
-// (normalised to [0, 1], learning rate 0.03; the albedo offset starts at the value that matches the
-// view's mean colour), through render = albedo * n_z and MaterialGraph::
-// backward. Each scale k gets --probe steps from the defaults; the best continues to --iterations
-// steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
-// textureDistance(reference view, graph view at a random offset) for the fitted
-// graph against the same 4 references; ratio = d_graph / d_self. A material is covered when its
-// best graph's ratio <= 1.5.
+// Fit, per graph of the category: the features texture loss with its colour distribution group
+// (TextureLossTarget on the texture view at offset o1, full mask; colorSliced = --sliced, 4 by
+// default, 0 = the loss as the pipeline's fit uses it) of the graph's view, Adam on the graph's
+// continuous parameters (normalised to [0, 1], learning rate 0.03; the albedo offset starts at
+// the value that matches the view's mean colour), through render = albedo * n_z and
+// MaterialGraph::backward. Each scale k gets --probe steps from the defaults; the best continues
+// to --iterations steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
+// textureDistance(reference view, graph view at a random offset) for the fitted graph against the
+// same 4 references; ratio = d_graph / d_self. A material is covered when its best graph's ratio
+// <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast).
 //
 // Prints one row per material (category, best graph, scale, d_self, d_graph, ratio), the coverage,
 // and the list of materials without a graph within 1.5x. --sheet writes a contact sheet: per
@@ -114,15 +115,22 @@ struct Fit {
   std::string graph;
   int k = 1;
   double loss = 1e30, dGraph = 1e30;
+  ps::eval::TextureDistance blocks;  // dGraph = blocks.total
   cv::Mat view;
 };
 
-double meanDistance(const std::vector<ps::eval::TextureHistograms>& tex, const cv::Mat& img,
-                    const cv::Mat& mask) {
+// The mean of textureDistance(t, img) over the texture views t, block by block.
+ps::eval::TextureDistance meanDistance(const std::vector<ps::eval::TextureHistograms>& tex,
+                                       const cv::Mat& img, const cv::Mat& mask) {
   const auto h = ps::eval::textureHistograms(img, mask);
-  double d = 0;
-  for (const auto& t : tex) d += ps::eval::textureDistance(t, h).total;
-  return d / double(tex.size());
+  ps::eval::TextureDistance d;
+  for (const auto& t : tex) {
+    const ps::eval::TextureDistance e = ps::eval::textureDistance(t, h);
+    d.total += e.total, d.lbp += e.lbp, d.spectrum += e.spectrum, d.contrast += e.contrast;
+  }
+  const double n = double(tex.size());
+  d.total /= n, d.lbp /= n, d.spectrum /= n, d.contrast /= n;
+  return d;
 }
 
 // Fits graph `name` to the texture view; returns the best state's view and distance.
@@ -220,7 +228,8 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
   const cv::Mat render = flatRender(m.albedo, m.normal);
   const int gx = int(rng.uniform() * n), gy = int(rng.uniform() * n);
   best.view = window(render, gx, gy, view);
-  best.dGraph = meanDistance(texHist, best.view, mask);
+  best.blocks = meanDistance(texHist, best.view, mask);
+  best.dGraph = best.blocks.total;
   return best;
 }
 
@@ -232,7 +241,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
-  float sliced = 0.0f;
+  float sliced = 4.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -260,6 +269,7 @@ int main(int argc, char** argv) {
     struct Row {
       RealMaterial mat;
       double dSelf = 0;
+      ps::eval::TextureDistance self;  // dSelf = self.total
       Fit best;
       cv::Mat texView;
       int graphs = 0;
@@ -280,17 +290,13 @@ int main(int argc, char** argv) {
         return window(tex.render, int(rng.uniform() * n), int(rng.uniform() * n), view);
       };
       r.texView = texWindow();
-      std::vector<ps::eval::TextureHistograms> texHist;
       std::vector<cv::Mat> others;
-      texHist.push_back(ps::eval::textureHistograms(r.texView, mask));
       for (int q = 0; q < 4; ++q) others.push_back(texWindow());
-      // d_self: the fitted view's texture against 4 other windows of the texture
-      for (const auto& o : others)
-        r.dSelf +=
-            ps::eval::textureDistance(texHist[0], ps::eval::textureHistograms(o, mask)).total;
-      r.dSelf /= 4.0;
       std::vector<ps::eval::TextureHistograms> cmp;
       for (const auto& o : others) cmp.push_back(ps::eval::textureHistograms(o, mask));
+      // d_self: the fitted view's texture against 4 other windows of the texture
+      r.self = meanDistance(cmp, r.texView, mask);
+      r.dSelf = r.self.total;
       ps::TextureLossOptions lossOptions;
       lossOptions.weights.colorSliced = sliced;
       const ps::TextureLossTarget target(r.texView, mask, lossOptions);
@@ -329,11 +335,14 @@ int main(int argc, char** argv) {
                 missing.empty() ? "(none)\n" : missing.c_str());
     if (!csvPath.empty()) {
       std::ofstream c(csvPath);
-      c << "material,category,best_graph,k,d_self,d_graph,ratio,graphs,seconds\n";
+      c << "material,category,best_graph,k,d_self,d_graph,ratio,graphs,seconds,self_lbp,"
+           "self_spectrum,self_contrast,graph_lbp,graph_spectrum,graph_contrast\n";
       for (const auto& r : rows)
         c << r.mat.name << ',' << r.mat.category << ',' << r.best.graph << ',' << r.best.k << ','
           << r.dSelf << ',' << r.best.dGraph << ',' << r.best.dGraph / std::max(1e-9, r.dSelf)
-          << ',' << r.graphs << ',' << r.seconds << '\n';
+          << ',' << r.graphs << ',' << r.seconds << ',' << r.self.lbp << ',' << r.self.spectrum
+          << ',' << r.self.contrast << ',' << r.best.blocks.lbp << ',' << r.best.blocks.spectrum
+          << ',' << r.best.blocks.contrast << '\n';
     }
     if (!sheetPath.empty()) {
       const int perRow = 4, labelH = 16, cell = view;
