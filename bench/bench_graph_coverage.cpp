@@ -3,7 +3,7 @@
 //
 //   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
 //                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
-//                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 4]
+//                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 4] [--ps 0]
 //
 // Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
 // textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
@@ -21,7 +21,8 @@
 // texture against itself at a random UV offset).
 // Fit, per graph of the category: the features texture loss with its colour distribution group
 // (TextureLossTarget on the texture view at offset o1, full mask; colorSliced = --sliced, 4 by
-// default, 0 = the loss as the pipeline's fit uses it) of the graph's view, Adam on the graph's
+// default, 0 = the loss as the pipeline's fit uses it; --ps W weights each joint-statistics group
+// W, 0 by default) of the graph's view, Adam on the graph's
 // continuous parameters (normalised to [0, 1], learning rate 0.03; the albedo offset starts at
 // the value that matches the view's mean colour), through render = albedo * n_z and
 // MaterialGraph::backward. Each scale k gets --probe steps from the defaults; the best continues
@@ -241,7 +242,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
-  float sliced = 4.0f;
+  float sliced = 4.0f, psWeight = 0.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -252,6 +253,7 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csvPath, "per-material CSV");
   app.add_option("--sheet", sheetPath, "contact sheet PNG (texture | fitted graph)");
   app.add_option("--seed", seed, "random offsets");
+  app.add_option("--ps", psWeight, "weight of each joint-statistics group of the loss (ps*)");
   app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -299,6 +301,9 @@ int main(int argc, char** argv) {
       r.dSelf = r.self.total;
       ps::TextureLossOptions lossOptions;
       lossOptions.weights.colorSliced = sliced;
+      ps::TextureLossWeights& w = lossOptions.weights;
+      w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor =
+          psWeight;
       const ps::TextureLossTarget target(r.texView, mask, lossOptions);
       for (const auto& name : lib.namesInCategory(r.mat.category)) {
         Fit f = fitGraph(lib, name, target, cmp, mask, cv::mean(r.texView), view, probe, iterations,
