@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
-  float sliced = 4.0f, psWeight = 0.0f;
+  float sliced = 4.0f, psWeight = 0.0f, shape = 0.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -254,6 +254,7 @@ int main(int argc, char** argv) {
   app.add_option("--sheet", sheetPath, "contact sheet PNG (texture | fitted graph)");
   app.add_option("--seed", seed, "random offsets");
   app.add_option("--ps", psWeight, "weight of each joint-statistics group of the loss (ps*)");
+  app.add_option("--shape", shape, "weight of the loss's spectral shape (bandShape)");
   app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -301,6 +302,7 @@ int main(int argc, char** argv) {
       r.dSelf = r.self.total;
       ps::TextureLossOptions lossOptions;
       lossOptions.weights.colorSliced = sliced;
+      lossOptions.weights.bandShape = shape;
       ps::TextureLossWeights& w = lossOptions.weights;
       w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor =
           psWeight;

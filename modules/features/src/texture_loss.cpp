@@ -25,7 +25,7 @@ bool TextureLossOptions::IsValid(std::string* error) const {
   if (!(w.colorMean >= 0 && w.colorStd >= 0 && w.bandMeanRe >= 0 && w.bandStdRe >= 0 &&
         w.bandMeanMag >= 0 && w.bandStdMag >= 0 && w.psAutoLowpass >= 0 && w.psAutoMagnitude >= 0 &&
         w.psCrossOrientation >= 0 && w.psCrossScale >= 0 && w.psColor >= 0 &&
-        w.colorSliced >= 0))
+        w.colorSliced >= 0 && w.bandShape >= 0))
     msg = "loss weights must be >= 0";
   else if (!w.scale.empty() && static_cast<int>(w.scale.size()) != descriptor.numScales)
     msg = "weights.scale must be empty or have numScales entries";
@@ -57,6 +57,24 @@ struct TextureLossTarget::Impl {
 };
 
 namespace {
+
+/// Each band's share of the summed band energy meanMag^2 + stdMag^2 (texture_loss.hpp's
+/// bandShape); all 0 when the bands carry no energy.
+std::vector<double> bandShares(const std::vector<double>& values, const TextureDescriptorOptions& o,
+                               double* total = nullptr) {
+  const int S = o.numScales, K = o.numOrientations;
+  std::vector<double> e(size_t(S * K), 0.0);
+  double sum = 0;
+  for (int s = 0; s < S; ++s)
+    for (int k = 0; k < K; ++k) {
+      const int i = bandIndex(o, s, k);
+      e[size_t(s * K + k)] = values[i + 2] * values[i + 2] + values[i + 3] * values[i + 3];
+      sum += e[size_t(s * K + k)];
+    }
+  if (total) *total = sum;
+  for (double& v : e) v = sum > 1e-30 ? v / sum : 0.0;
+  return e;
+}
 
 /// sqrt(max(0, v^2 - e2 - n2) + e2): a statistic v = sqrt(var + e2) with the variance n2 taken off.
 double withoutVariance(double v, double n2, double e2) {
@@ -255,6 +273,14 @@ double textureLossForward(TextureLossParams& params) {
     }
     params.renderPs.assign(ps.values.begin(), ps.values.end());
   }
+  params.shapeLoss = 0.0;
+  if (t.options.weights.bandShape > 0) {
+    const std::vector<double> r = bandShares(st.values, t.options.descriptor),
+                              p = bandShares(t.targetValues, t.options.descriptor);
+    for (size_t b = 0; b < r.size(); ++b) params.shapeLoss += (r[b] - p[b]) * (r[b] - p[b]);
+    params.shapeLoss *= t.options.weights.bandShape;
+    loss += params.shapeLoss;
+  }
   params.slicedLoss = 0.0;
   if (t.options.weights.colorSliced > 0) {
     params.slicedLoss = t.options.weights.colorSliced *
@@ -275,6 +301,31 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
   std::vector<double> g(st.values.size());
   for (size_t i = 0; i < g.size(); ++i)
     g[i] = gradLoss * 2.0 * t.entryWeight[i] * (st.values[i] - t.targetValues[i]);
+  if (t.options.weights.bandShape > 0) {
+    // d/d E_a of w sum_b (f_b - p_b)^2 with f_b = E_b / sum E: (1 / sum E) (d_a - sum_b d_b f_b),
+    // d_b = 2 w (f_b - p_b); E_a = meanMag_a^2 + stdMag_a^2
+    const TextureDescriptorOptions& o = t.options.descriptor;
+    double sum = 0;
+    const std::vector<double> r = bandShares(st.values, o, &sum),
+                              p = bandShares(t.targetValues, o);
+    if (sum > 1e-30) {
+      double dotF = 0;
+      std::vector<double> d(r.size());
+      for (size_t b = 0; b < r.size(); ++b) {
+        d[b] = 2.0 * t.options.weights.bandShape * (r[b] - p[b]);
+        dotF += d[b] * r[b];
+      }
+      const int K = o.numOrientations;
+      for (int sc = 0; sc < o.numScales; ++sc)
+        for (int k = 0; k < K; ++k) {
+          const size_t b = size_t(sc * K + k);
+          const double dE = gradLoss * (d[b] - dotF) / sum;
+          const int i = bandIndex(o, sc, k);
+          g[size_t(i + 2)] += dE * 2.0 * st.values[size_t(i + 2)];
+          g[size_t(i + 3)] += dE * 2.0 * st.values[size_t(i + 3)];
+        }
+    }
+  }
   cv::Mat gradCrop;
   if (t.psActive) {
     const PsState& ps = params.workspace->ps;

@@ -258,6 +258,44 @@ TEST(Features_TextureLoss, one_pixel_mask_gradient) {
   EXPECT_LT(r.maxRelError, 2e-2) << r.maxAbsError;
 }
 
+// The spectral shape group (weights.bandShape): its gradient against central differences (the
+// group alone, every other weight 0), its blindness to contrast (the photo's deviations from its
+// mean doubled: the same shares), and what it sees (a period of 7 against 14 pixels).
+TEST(Features_TextureLoss, band_shape_gradient_and_what_it_sees) {
+  const cv::Size size(96, 80);
+  cv::Mat mask = diskMask(size, {48, 40}, 30);
+  cv::rectangle(mask, cv::Rect(70, 36, 24, 3), cv::Scalar(255), cv::FILLED);
+  TextureLossOptions o;
+  TextureLossWeights& w = o.weights;
+  w.colorMean = w.colorStd = w.bandMeanRe = w.bandStdRe = w.bandMeanMag = w.bandStdMag = 0.0f;
+  w.bandShape = 10.0f;
+  const cv::Mat photo = stripes(size, 7.0, 30.0);
+  const TextureLossTarget target(photo, mask, o);
+  const cv::Mat render = noise(size, 1.5, 7) * 0.8 + checker(size, 5) * 0.3;
+  std::vector<cv::Point> pixels = randomPixels(mask, true, 12, 1);
+  const std::vector<cv::Point> outside = randomPixels(mask, false, 3, 3);
+  pixels.insert(pixels.end(), outside.begin(), outside.end());
+  const TextureLossGradientCheck r = checkTextureLossGradient(target, render, pixels, 1e-2);
+  EXPECT_GT(r.maxNumeric, 0.0);
+  EXPECT_LT(r.maxRelError, 2e-2) << "max abs error " << r.maxAbsError << ", floor " << r.floor;
+
+  TextureLossParams p;
+  p.target = &target;
+  const cv::Scalar mean = cv::mean(photo, mask);
+  p.render = (photo - mean) * 2.0 + mean;
+  textureLossForward(p);
+  EXPECT_LT(p.shapeLoss, 1e-6);
+  p.render = stripes(size, 14.0, 30.0);
+  textureLossForward(p);
+  EXPECT_GT(p.shapeLoss, 0.1);
+  EXPECT_DOUBLE_EQ(p.loss, p.shapeLoss);  // the other groups are off
+  // a flat render has no band energy: finite, no gradient
+  p.render = cv::Mat(size, CV_32FC3, cv::Scalar::all(0.4));
+  cv::Mat grad;
+  EXPECT_TRUE(std::isfinite(lossAndGradient(target, p.render, grad)));
+  EXPECT_EQ(cv::norm(grad, cv::NORM_INF), 0.0);
+}
+
 TEST(Features_TextureLoss, options_are_validated) {
   TextureLossOptions o;
   std::string err;

@@ -62,6 +62,11 @@ struct TextureLossWeights {
   float psColor = 0.0f;
   /// The colour distribution (sliced Wasserstein, see the top; 0: not computed).
   float colorSliced = 0.0f;
+  /// The spectral shape: each band's share of the summed band energy (meanMag^2 + stdMag^2 over
+  /// the sum of it over the bands), weight times the summed squared difference of the shares.
+  /// Blind to contrast (the colour groups see that), it sees how the energy spreads over scale
+  /// and orientation. 0: not computed.
+  float bandShape = 0.0f;
   bool anyPs() const {
     return psAutoLowpass > 0 || psAutoMagnitude > 0 || psCrossOrientation > 0 || psCrossScale > 0 ||
            psColor > 0;
@@ -148,6 +153,8 @@ struct TextureLossParams {
   std::vector<float> renderPs;
   /// Contribution of the colour distribution (weights.colorSliced times the distance; 0 when off).
   double slicedLoss = 0.0;
+  /// Contribution of the spectral shape (weights.bandShape; 0 when off).
+  double shapeLoss = 0.0;
 
   // ---- workspace (written by forward, read by backward) ----
   std::shared_ptr<TextureLossWorkspace> workspace;
