@@ -203,6 +203,8 @@ void applyOverrides(PartFitOptions& o, const std::string& spec) {
     else if (k == "psCrossOrientation") o.psCrossOrientation = static_cast<float>(v);
     else if (k == "psCrossScale") o.psCrossScale = static_cast<float>(v);
     else if (k == "psColor") o.psColor = static_cast<float>(v);
+    else if (k == "colorSliced") o.colorSliced = static_cast<float>(v);
+    else if (k == "bandShape") o.bandShape = static_cast<float>(v);
     else {
       std::fprintf(stderr, "--set: unknown option %s\n", k.c_str());
       std::exit(2);

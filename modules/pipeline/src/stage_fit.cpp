@@ -26,8 +26,9 @@ namespace {
 // the render clipped where an integer-coded photo clips (PartView::clip); 12 = the texture tests
 // also at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 13 = and the colour test
 // (SynthesisOptions::maxChromaRatio), and a graph forced by `parts.<name>.graph` is kept whatever
-// the tests say; 14 = the colour gamut test (SynthesisOptions::maxChromaOutside).
-constexpr uint64_t kFitVersion = 14;
+// the tests say; 14 = the colour gamut test (SynthesisOptions::maxChromaOutside); 15 = the
+// spectral shape in the loss of balanced and fast (PartFitOptions::bandShape).
+constexpr uint64_t kFitVersion = 15;
 
 class FitStage : public Stage {
  public:

@@ -87,6 +87,9 @@ struct PartFitOptions {
   /// The texture loss's colour distribution (TextureLossWeights::colorSliced), the same way: > 0
   /// builds the fit's own targets with it.
   float colorSliced = 0.0f;
+  /// The texture loss's spectral shape (TextureLossWeights::bandShape), the same way. "balanced"
+  /// and "fast": 1 (measured, modules/optim/README.md).
+  float bandShape = 0.0f;
   /// Weight of the roughness prior L_prior (0 = off; roughness free in [0.02, 1]). On, the fit
   /// also keeps the roughness in the prior's [min, max] and starts it there.
   float roughnessPriorWeight = 0.0f;
