@@ -1030,6 +1030,9 @@ int main(int argc, char** argv) {
                  "a graph's chromaticity spread at most this x the photo's (0: no test)");
   app.add_option("--select-chroma-outside", synthesis.maxChromaOutside,
                  "at most this share of a graph's render in colours the photo lacks (0: no test)");
+  float selectShape = 0.0f;
+  app.add_option("--select-shape", selectShape,
+                 "the spectral shape's weight in the finalists' short fits (bandShape)");
   app.add_option("--select-coarse-scale", synthesis.coarseContrastScale,
                  "the contrast test again at this many pixels per cell (0 or 1: no such test)");
   app.add_option("--select-start-draw", startDraw,
@@ -1077,7 +1080,8 @@ int main(int argc, char** argv) {
                            "--select-vote-k", "--select-margin", "--select-pixel-ratio",
                            "--select-contrast-ratio", "--select-chroma-ratio",
                            "--select-chroma-outside", "--select-coarse-scale",
-                           "--select-start-draw", "--select-warm-fit", "--select-held-out"})
+                           "--select-start-draw", "--select-warm-fit", "--select-held-out",
+                           "--select-shape"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1090,6 +1094,7 @@ int main(int argc, char** argv) {
       if (app.count("--select-coarse-scale")) s.coarseContrastScale = synthesis.coarseContrastScale;
       if (app.count("--select-chroma-ratio")) s.maxChromaRatio = synthesis.maxChromaRatio;
       if (app.count("--select-chroma-outside")) s.maxChromaOutside = synthesis.maxChromaOutside;
+      if (app.count("--select-shape")) s.bandShape = selectShape;
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
       s.heldOut = heldOut != 0;

@@ -54,6 +54,9 @@ struct TextureLossTarget::Impl {
   cv::Vec3d noise{0, 0, 0};  // the photo's pixel noise taken off targetValues
   // colour distribution (active when weights.colorSliced > 0)
   SlicedTarget sliced;
+  // spectral shape (active when weights.bandShape > 0): the photo's band energy shares, its
+  // pixel noise's energy taken off
+  std::vector<double> shapeTarget;
 };
 
 namespace {
@@ -81,19 +84,48 @@ double withoutVariance(double v, double n2, double e2) {
   return std::sqrt(std::max(0.0, v * v - e2 - n2) + e2);
 }
 
+/// The descriptor of white noise at the photo's estimated pixel noise (`noise`, per channel)
+/// through the target's mask and filters (a fixed seed: the same target every time); empty when
+/// the photo shows no noise.
+std::vector<double> photoNoiseStatistics(const cv::Mat& photo, const cv::Mat& mask,
+                                         const TextureLossTarget::Impl& m, cv::Vec3d* noise) {
+  *noise = estimatePixelNoise(photo, mask);
+  if (*noise == cv::Vec3d(0, 0, 0)) return {};
+  cv::Mat image(photo.size(), CV_32FC3);
+  cv::RNG rng(0x9e3779b97f4a7c15ULL);
+  rng.fill(image, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(1));
+  image = image.mul(cv::Scalar((*noise)[0], (*noise)[1], (*noise)[2]));
+  ForwardState ns;
+  forwardDescriptor(image, m.pyramid, m.bank, m.options.descriptor, ns, false);
+  return ns.values;
+}
+
+/// The spectral shape's target: the photo's band energy shares with the noise's band energy
+/// (`noiseValues`, photoNoiseStatistics; empty: none) taken off each band first.
+std::vector<double> shapeTargetOf(const std::vector<double>& values,
+                                  const std::vector<double>& noiseValues,
+                                  const TextureDescriptorOptions& o) {
+  if (noiseValues.empty()) return bandShares(values, o);
+  std::vector<double> clean = values;
+  for (int s = 0; s < o.numScales; ++s)
+    for (int k = 0; k < o.numOrientations; ++k) {
+      const int i = bandIndex(o, s, k);
+      const auto energy = [&](const std::vector<double>& v) {
+        return v[i + kBandMeanMag] * v[i + kBandMeanMag] + v[i + kBandStdMag] * v[i + kBandStdMag];
+      };
+      // the shares read meanMag^2 + stdMag^2: put the clean energy in the mean, none in the std
+      clean[i + kBandMeanMag] = std::sqrt(std::max(0.0, energy(values) - energy(noiseValues)));
+      clean[i + kBandStdMag] = 0.0;
+    }
+  return bandShares(clean, o);
+}
+
 /// Takes the photo's pixel noise off the target statistics (TextureLossOptions::photoNoiseFloor).
 void subtractPhotoNoise(const cv::Mat& photo, const cv::Mat& mask, TextureLossTarget::Impl& m) {
   const TextureDescriptorOptions& o = m.options.descriptor;
-  m.noise = estimatePixelNoise(photo, mask);
-  if (m.noise == cv::Vec3d(0, 0, 0)) return;
-  // the noise's own statistics: white noise of that level through the same mask and filters
-  // (a fixed seed: the same target every time)
-  cv::Mat noise(photo.size(), CV_32FC3);
-  cv::RNG rng(0x9e3779b97f4a7c15ULL);
-  rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(1));
-  noise = noise.mul(cv::Scalar(m.noise[0], m.noise[1], m.noise[2]));
   ForwardState ns;
-  forwardDescriptor(noise, m.pyramid, m.bank, o, ns, false);
+  ns.values = photoNoiseStatistics(photo, mask, m, &m.noise);
+  if (ns.values.empty()) return;
   const double e2 = static_cast<double>(o.epsilon) * o.epsilon;
   std::vector<double>& t = m.targetValues;
   for (int ch = 0; ch < 3; ++ch) t[3 + ch] = withoutVariance(t[3 + ch], m.noise[ch] * m.noise[ch], e2);
@@ -165,6 +197,14 @@ TextureLossTarget::TextureLossTarget(const cv::Mat& photo, const cv::Mat& mask,
   m.targetValues = st.values;
   m.descriptor = toDescriptor(st, m.pyramid, o);
   if (options.photoNoiseFloor) subtractPhotoNoise(photo, mask, m);
+  if (options.weights.bandShape > 0) {
+    // the render carries no pixel noise: its energy in the photo's bands would read as fine
+    // structure the render must make up (photoNoiseFloor: already off targetValues)
+    cv::Vec3d noise;
+    m.shapeTarget = shapeTargetOf(
+        m.targetValues,
+        options.photoNoiseFloor ? std::vector<double>{} : photoNoiseStatistics(photo, mask, m, &noise), o);
+  }
   if (options.normalizeByTarget) {
     const double lum = luminance(st.values[0], st.values[1], st.values[2]);
     m.nu = std::max(lum, 1e-3);
@@ -275,8 +315,8 @@ double textureLossForward(TextureLossParams& params) {
   }
   params.shapeLoss = 0.0;
   if (t.options.weights.bandShape > 0) {
-    const std::vector<double> r = bandShares(st.values, t.options.descriptor),
-                              p = bandShares(t.targetValues, t.options.descriptor);
+    const std::vector<double> r = bandShares(st.values, t.options.descriptor);
+    const std::vector<double>& p = t.shapeTarget;
     for (size_t b = 0; b < r.size(); ++b) params.shapeLoss += (r[b] - p[b]) * (r[b] - p[b]);
     params.shapeLoss *= t.options.weights.bandShape;
     loss += params.shapeLoss;
@@ -306,8 +346,8 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
     // d_b = 2 w (f_b - p_b); E_a = meanMag_a^2 + stdMag_a^2
     const TextureDescriptorOptions& o = t.options.descriptor;
     double sum = 0;
-    const std::vector<double> r = bandShares(st.values, o, &sum),
-                              p = bandShares(t.targetValues, o);
+    const std::vector<double> r = bandShares(st.values, o, &sum);
+    const std::vector<double>& p = t.shapeTarget;
     if (sum > 1e-30) {
       double dotF = 0;
       std::vector<double> d(r.size());

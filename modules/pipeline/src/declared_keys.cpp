@@ -125,7 +125,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.startFromNearestDraw)
           .add(s.warmStartFit)
           .add(s.heldOut)
-          .add(s.minHeldOutPixels);
+          .add(s.minHeldOutPixels)
+          .add(s.bandShape.value_or(-1.0f));
     } else {
       h.add(0);
     }

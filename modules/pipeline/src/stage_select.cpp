@@ -37,8 +37,9 @@ class SelectStage : public Stage {
     // 11: a textured finalist's chromaticity spread at most maxChromaRatio x the photo's; 12:
     // finalists fitted on one half of the part and scored on the other (SynthesisOptions::heldOut);
     // 13: each finalist's share of its render in colours the photo lacks (fit.finalists[].
-    // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside)
-    decl.version = 13;
+    // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside);
+    // 14: the finalists' short fits weigh the spectral shape (SynthesisOptions::bandShape)
+    decl.version = 14;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -97,10 +98,6 @@ class SelectStage : public Stage {
         if (geo.size() >= 16) {
           PartFitOptions o = in.fitOptions();
           o.seed = Hasher().add(in.seed()).add(std::string_view(p.name)).digest();
-          // the finalists are ranked without the spectral shape: with it the tune half's texture
-          // distance rose (4.88x -> 5.12x the offset truth's); the fit stage refines the winner's
-          // shape (modules/optim/README.md)
-          o.bandShape = 0.0f;
           const SynthesisChoice s =
               chooseBySynthesis(in.library(), c.votes, geo, part, TextureLossTarget(part, fit), o,
                                 synthesis, &bank_->options());

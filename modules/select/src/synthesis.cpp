@@ -170,6 +170,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     os << "maxChromaRatio must be >= 0, got " << maxChromaRatio;
   else if (!(maxChromaOutside >= 0 && maxChromaOutside <= 1))
     os << "maxChromaOutside must be in [0, 1], got " << maxChromaOutside;
+  else if (bandShape && !(*bandShape >= 0))
+    os << "bandShape must be >= 0, got " << *bandShape;
   else if (minHeldOutPixels < 1)
     os << "minHeldOutPixels must be >= 1, got " << minHeldOutPixels;
   if (error) *error = os.str();
@@ -232,11 +234,13 @@ std::vector<std::string> synthesisFinalists(const GraphLibrary& library,
 
 SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector<GraphVote>& votes,
                                   const PartGeometry& geometry, const cv::Mat& photo,
-                                  const TextureLossTarget& target, const PartFitOptions& fit,
+                                  const TextureLossTarget& target, const PartFitOptions& callerFit,
                                   const SynthesisOptions& options,
                                   const ExemplarBankOptions* bank) {
   std::string why;
   PS_Check(options.IsValid(&why), "invalid SynthesisOptions: " << why);
+  PartFitOptions fit = callerFit;
+  if (options.bandShape) fit.bandShape = *options.bandShape;
   const Timer timer;
   const std::vector<std::string> names = synthesisFinalists(library, votes, options);
   SynthesisChoice out;

@@ -53,6 +53,10 @@ TEST(Select_Synthesis, finalists_are_the_shortlist_then_new_categories_then_homo
   o.textureMargin = 1.0;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_NE(why.find("textureMargin"), std::string::npos);
+  o.textureMargin = 0.05;
+  o.bandShape = -1.0f;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("bandShape"), std::string::npos);
 }
 
 struct Part {

@@ -88,7 +88,7 @@ struct PartFitOptions {
   /// builds the fit's own targets with it.
   float colorSliced = 0.0f;
   /// The texture loss's spectral shape (TextureLossWeights::bandShape), the same way. "balanced"
-  /// and "fast": 1 (measured, modules/optim/README.md).
+  /// and "fast": 0.3 (measured, modules/optim/README.md).
   float bandShape = 0.0f;
   /// Weight of the roughness prior L_prior (0 = off; roughness free in [0.02, 1]). On, the fit
   /// also keeps the roughness in the prior's [min, max] and starts it there.

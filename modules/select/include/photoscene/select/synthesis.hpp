@@ -25,6 +25,7 @@
 //   c.graph;        // the winner; c.finalists: every finalist's loss, best first
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,9 @@ struct SynthesisOptions {
   /// The pipeline's fit goes on from the winner's short fit (its values and UV) instead of
   /// starting over from the graph's defaults.
   bool warmStartFit = false;
+  /// The spectral shape's weight in the finalists' short fits and scores (PartFitOptions::
+  /// bandShape, the texture loss's band energy shares); unset: the caller's fit options' own.
+  std::optional<float> bandShape;
   /// True when any of the pixel-error, contrast and colour tests is on (TextureEvidence::judge).
   bool anyTextureTest() const {
     return maxPixelErrorRatio > 0 || maxContrastRatio > 0 || maxChromaRatio > 0 ||
