@@ -21,8 +21,9 @@
 // texture against itself at a random UV offset).
 // Fit, per graph of the category: the features texture loss with its colour distribution group
 // (TextureLossTarget on the texture view at offset o1, full mask; colorSliced = --sliced, 4 by
-// default, 0 = the loss as the pipeline's fit uses it; --ps W weights each joint-statistics group
-// W, 0 by default) of the graph's view, Adam on the graph's
+// default, 0 = the loss as the pipeline's fit uses it; --shape the spectral shape's weight, 0.3
+// by default as in the pipeline's fit; --ps W weights each joint-statistics group W, 0 by
+// default) of the graph's view, Adam on the graph's
 // continuous parameters (normalised to [0, 1], learning rate 0.03; the albedo offset starts at
 // the value that matches the view's mean colour), through render = albedo * n_z and
 // MaterialGraph::backward. Each scale k gets --probe steps from the defaults; the best continues
@@ -242,7 +243,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
-  float sliced = 4.0f, psWeight = 0.0f, shape = 0.0f;
+  float sliced = 4.0f, psWeight = 0.0f, shape = 0.3f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
