@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace ps {
 
@@ -61,19 +63,23 @@ struct TextureLossTarget::Impl {
 
 namespace {
 
-/// Each band's share of the summed band energy meanMag^2 + stdMag^2 (texture_loss.hpp's
-/// bandShape); all 0 when the bands carry no energy.
-std::vector<double> bandShares(const std::vector<double>& values, const TextureDescriptorOptions& o,
-                               double* total = nullptr) {
-  const int S = o.numScales, K = o.numOrientations;
-  std::vector<double> e(size_t(S * K), 0.0);
-  double sum = 0;
-  for (int s = 0; s < S; ++s)
+/// Each band's energy meanMag^2 + stdMag^2, in band order (s * numOrientations + k).
+std::vector<double> bandEnergies(const std::vector<double>& values, const TextureDescriptorOptions& o) {
+  const int K = o.numOrientations;
+  std::vector<double> e(size_t(o.numScales * K));
+  for (int s = 0; s < o.numScales; ++s)
     for (int k = 0; k < K; ++k) {
       const int i = bandIndex(o, s, k);
-      e[size_t(s * K + k)] = values[i + 2] * values[i + 2] + values[i + 3] * values[i + 3];
-      sum += e[size_t(s * K + k)];
+      e[size_t(s * K + k)] = values[i + kBandMeanMag] * values[i + kBandMeanMag] +
+                             values[i + kBandStdMag] * values[i + kBandStdMag];
     }
+  return e;
+}
+
+/// The energies over their sum (texture_loss.hpp's bandShape); all 0 when there is no energy.
+std::vector<double> shares(std::vector<double> e, double* total = nullptr) {
+  double sum = 0;
+  for (double v : e) sum += v;
   if (total) *total = sum;
   for (double& v : e) v = sum > 1e-30 ? v / sum : 0.0;
   return e;
@@ -105,19 +111,12 @@ std::vector<double> photoNoiseStatistics(const cv::Mat& photo, const cv::Mat& ma
 std::vector<double> shapeTargetOf(const std::vector<double>& values,
                                   const std::vector<double>& noiseValues,
                                   const TextureDescriptorOptions& o) {
-  if (noiseValues.empty()) return bandShares(values, o);
-  std::vector<double> clean = values;
-  for (int s = 0; s < o.numScales; ++s)
-    for (int k = 0; k < o.numOrientations; ++k) {
-      const int i = bandIndex(o, s, k);
-      const auto energy = [&](const std::vector<double>& v) {
-        return v[i + kBandMeanMag] * v[i + kBandMeanMag] + v[i + kBandStdMag] * v[i + kBandStdMag];
-      };
-      // the shares read meanMag^2 + stdMag^2: put the clean energy in the mean, none in the std
-      clean[i + kBandMeanMag] = std::sqrt(std::max(0.0, energy(values) - energy(noiseValues)));
-      clean[i + kBandStdMag] = 0.0;
-    }
-  return bandShares(clean, o);
+  std::vector<double> e = bandEnergies(values, o);
+  if (!noiseValues.empty()) {
+    const std::vector<double> n = bandEnergies(noiseValues, o);
+    for (size_t b = 0; b < e.size(); ++b) e[b] = std::max(0.0, e[b] - n[b]);
+  }
+  return shares(std::move(e));
 }
 
 /// Takes the photo's pixel noise off the target statistics (TextureLossOptions::photoNoiseFloor).
@@ -315,7 +314,7 @@ double textureLossForward(TextureLossParams& params) {
   }
   params.shapeLoss = 0.0;
   if (t.options.weights.bandShape > 0) {
-    const std::vector<double> r = bandShares(st.values, t.options.descriptor);
+    const std::vector<double> r = shares(bandEnergies(st.values, t.options.descriptor));
     const std::vector<double>& p = t.shapeTarget;
     for (size_t b = 0; b < r.size(); ++b) params.shapeLoss += (r[b] - p[b]) * (r[b] - p[b]);
     params.shapeLoss *= t.options.weights.bandShape;
@@ -346,7 +345,7 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
     // d_b = 2 w (f_b - p_b); E_a = meanMag_a^2 + stdMag_a^2
     const TextureDescriptorOptions& o = t.options.descriptor;
     double sum = 0;
-    const std::vector<double> r = bandShares(st.values, o, &sum);
+    const std::vector<double> r = shares(bandEnergies(st.values, o), &sum);
     const std::vector<double>& p = t.shapeTarget;
     if (sum > 1e-30) {
       double dotF = 0;
@@ -361,8 +360,8 @@ void textureLossBackward(const TextureLossParams& params, float gradLoss, cv::Ma
           const size_t b = size_t(sc * K + k);
           const double dE = gradLoss * (d[b] - dotF) / sum;
           const int i = bandIndex(o, sc, k);
-          g[size_t(i + 2)] += dE * 2.0 * st.values[size_t(i + 2)];
-          g[size_t(i + 3)] += dE * 2.0 * st.values[size_t(i + 3)];
+          for (const int j : {i + kBandMeanMag, i + kBandStdMag})
+            g[size_t(j)] += dE * 2.0 * st.values[size_t(j)];
         }
     }
   }
