@@ -276,10 +276,11 @@ SceneDesc readSceneJson(const fs::path& path) {
     if (!parts->isObject()) parts->fail("an object mapping part names to settings");
     for (const auto& name : parts->keys()) {
       const JsonValue p = (*parts)[name];
-      if (!p.isObject()) p.fail("an object with \"graph\", \"fixed\" or \"skip\"");
-      warnUnknownKeys(p, {"graph", "fixed", "skip"});
+      if (!p.isObject()) p.fail("an object with \"graph\", \"category\", \"fixed\" or \"skip\"");
+      warnUnknownKeys(p, {"graph", "category", "fixed", "skip"});
       PartDesc d;
       if (auto g = p.get("graph")) d.graph = requireNonEmptyString(*g);
+      if (auto c = p.get("category")) d.category = requireNonEmptyString(*c);
       if (auto f = p.get("fixed")) {
         if (!f->isObject()) f->fail("an object with albedo and roughness");
         warnUnknownKeys(*f, {"albedo", "roughness", "metallic", "specular"});

@@ -254,7 +254,7 @@ const char* kScene = R"({
     "auto_ceiling_spacing": 2.5,
     "environment": {"image": "sky.hdr", "window_parts": ["window"], "strength": 0.7}
   },
-  "parts": {"floor": {"graph": "wood_planks"},
+  "parts": {"floor": {"graph": "wood_planks", "category": "wood"},
             "tv": {"fixed": {"albedo": [0.02, 0.02, 0.02], "roughness": 0.15}},
             "painting": {"skip": true}},
   "options": {"preset": "fast", "seed": 7}
@@ -277,6 +277,8 @@ TEST(Io_SceneJson, reads_every_key_of_the_spec) {
   EXPECT_EQ(s.lights.environment->windowParts[0], "window");
   EXPECT_DOUBLE_EQ(s.lights.environment->radiance.x(), 0.7);
   EXPECT_EQ(*s.parts.at("floor").graph, "wood_planks");
+  EXPECT_EQ(*s.parts.at("floor").category, "wood");
+  EXPECT_FALSE(s.parts.at("tv").category.has_value());
   EXPECT_DOUBLE_EQ(s.parts.at("tv").fixed->roughness, 0.15);
   EXPECT_TRUE(s.parts.at("painting").skip);
   EXPECT_EQ(s.options.preset, "fast");

@@ -16,6 +16,14 @@ namespace ps::pipeline {
 
 namespace {
 
+// The categories the library has graphs of, in the spec's order, comma-separated.
+std::string libraryCategories(const GraphLibrary& library) {
+  std::string out;
+  for (const std::string& c : materialCategories())
+    if (!library.namesInCategory(c).empty()) out += (out.empty() ? "" : ", ") + c;
+  return out;
+}
+
 // What the user asked for, checked before anything is written: the preset, the graphs `parts`
 // forces (the texture size is checked before the scene is read).
 void checkPresetAndGraphs(const RunInputs& in) {
@@ -24,11 +32,22 @@ void checkPresetAndGraphs(const RunInputs& in) {
     throw InputError(o.scene.string(), "options.preset",
                      "expected fast, balanced or paper, got '" + in.preset + "'");
   const std::vector<std::string> names = in.library->names();
-  for (const auto& [name, part] : in.scene.desc.parts)
+  for (const auto& [name, part] : in.scene.desc.parts) {
     if (part.graph && !std::binary_search(names.begin(), names.end(), *part.graph))
       throw InputError(o.scene.string(), "parts." + name + ".graph",
                        "expected a graph of the library (`photoscene graphs --list`), got '" +
                            *part.graph + "'");
+    if (!part.category) continue;
+    if (in.library->namesInCategory(*part.category).empty())
+      throw InputError(o.scene.string(), "parts." + name + ".category",
+                       "expected a category with graphs in the library (" +
+                           libraryCategories(*in.library) + "), got '" + *part.category + "'");
+    if (part.graph && in.library->get(*part.graph).category() != *part.category)
+      throw InputError(o.scene.string(), "parts." + name + ".category",
+                       "expected the category of parts." + name + ".graph ('" + *part.graph +
+                           "' is " + in.library->get(*part.graph).category() + "), got '" +
+                           *part.category + "'");
+  }
 }
 
 // A view at the working resolution (`workWidth` pixels across, never enlarged).

@@ -122,6 +122,13 @@ const std::optional<std::string>& Reads::partGraph(int part) const {
   return d ? d->graph : none;
 }
 
+const std::optional<std::string>& Reads::partCategory(int part) const {
+  static const std::optional<std::string> none;
+  need("parts.{}.category", -1, part);
+  const io::PartDesc* d = partDesc(ctx_.in_.scene, ctx_.parts.at(part).name);
+  return d ? d->category : none;
+}
+
 const std::optional<io::HomogeneousDesc>& Reads::partFixed(int part) const {
   static const std::optional<io::HomogeneousDesc> none;
   need("parts.{}.fixed", -1, part);

@@ -90,6 +90,7 @@ class Reads {
   const cv::Mat& labels(int view) const;  ///< CV_32SC1 or empty: `views[].segments` + the photo's
   const std::map<int, int>& segmentParts(int view) const;               ///< `views[].segment_parts`
   const std::optional<std::string>& partGraph(int part) const;          ///< `parts.{}.graph`
+  const std::optional<std::string>& partCategory(int part) const;       ///< `parts.{}.category`
   const std::optional<io::HomogeneousDesc>& partFixed(int part) const;  ///< `parts.{}.fixed`
   bool partSkip(int part) const;                                        ///< `parts.{}.skip`
   uint64_t seed() const;                                                ///< `options.seed`

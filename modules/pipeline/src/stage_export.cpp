@@ -179,6 +179,8 @@ void writeMaterials(const Context& ctx, const Reads& in, const fs::path& out) {
           m.fitExtra["coarse_contrast_scale"] = in.synthesisOptions().coarseContrastScale;
       }
       if (!p.textureRejected.empty()) m.fitExtra["texture_rejected"] = p.textureRejected;
+      if (const auto& given = in.partCategory(static_cast<int>(i)))
+        m.fitExtra["category_given"] = *given;  // parts.<name>.category
       if (!p.history.empty()) m.fitExtra["history"] = p.history;
       if (in.baseline() != Baseline::None) m.fitExtra["baseline"] = baselineName(in.baseline());
     } else {

@@ -27,15 +27,16 @@ namespace {
 // also at 2 x 2 cells (SynthesisOptions::coarseContrastScale); 13 = and the colour test
 // (SynthesisOptions::maxChromaRatio), and a graph forced by `parts.<name>.graph` is kept whatever
 // the tests say; 14 = the colour gamut test (SynthesisOptions::maxChromaOutside); 15 = the
-// spectral shape in the loss of balanced and fast (PartFitOptions::bandShape).
-constexpr uint64_t kFitVersion = 15;
+// spectral shape in the loss of balanced and fast (PartFitOptions::bandShape); 16 = a graph of
+// the category the scene gives (`parts.<name>.category`) is kept whatever the tests say.
+constexpr uint64_t kFitVersion = 16;
 
 class FitStage : public Stage {
  public:
   FitStage() : Stage("fit", Unit::Part) {
     decl.version = kFitVersion;
-    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
-                  "options.seed"};
+    decl.scene = {"parts.{}.graph", "parts.{}.category", "views[].camera", "views[].image",
+                  "views[].color_space", "options.seed"};
     decl.options = {"preset", "max_fit_iterations", "library", "work_width", "fit_views",
                     "selection"};
     decl.after = {"geometry", "align", "observe", "select", "incident0"};
@@ -50,8 +51,8 @@ class FitStage : public Stage {
   }
 
   // The graph's fit; false when cancelled. Sets *homogeneous when the fitted texture is rejected
-  // (the part is then fitted as homogeneous); a graph the scene forces (`parts.<name>.graph`) is
-  // the user's choice and is kept.
+  // (the part is then fitted as homogeneous); a graph the scene forces (`parts.<name>.graph`), or
+  // one of the category it gives (`parts.<name>.category`), is the user's choice and is kept.
   bool fitTexture(const Reads& in, PartWork& p, const PartGeometry& geo, const cv::Mat& photo,
                   const cv::Mat& mask, bool forced, bool* homogeneous) const {
     PartFitOptions o = in.fitOptions();
@@ -129,7 +130,8 @@ class FitStage : public Stage {
     p.textureRejected.clear();
     bool homogeneous = p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels;
     if (!homogeneous &&
-        !fitTexture(in, p, geo, photo, mask, in.partGraph(u).has_value(), &homogeneous))
+        !fitTexture(in, p, geo, photo, mask,
+                    in.partGraph(u).has_value() || in.partCategory(u).has_value(), &homogeneous))
       return false;
     if (homogeneous) {
       const HomogeneousFit f =

@@ -1,4 +1,5 @@
-// Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), homogeneous
+// Stage `select`: per part, its material graph: the user's (`parts.<name>.graph`), or one of the
+// user's category (`parts.<name>.category`) chosen as below among that category's graphs, homogeneous
 // below the small-part threshold (counted over the part's interior: a chair's thin frame shows
 // its outline, not a texture), else the kNN vote over the exemplar bank shortlists and the
 // shortlist's short fits on the part under incident0 decide (select/synthesis.hpp).
@@ -17,8 +18,8 @@ namespace {
 class SelectStage : public Stage {
  public:
   SelectStage() : Stage("select", Unit::Part) {
-    decl.scene = {"parts.{}.graph", "views[].camera", "views[].image", "views[].color_space",
-                  "options.seed"};
+    decl.scene = {"parts.{}.graph", "parts.{}.category", "views[].camera", "views[].image",
+                  "views[].color_space", "options.seed"};
     decl.options = {"library", "work_width", "preset", "selection"};
     decl.after = {"parts", "geometry", "align", "observe", "incident0"};
     decl.writes = {"PartWork::graph",      "PartWork::category",  "PartWork::runnersUp",
@@ -38,8 +39,9 @@ class SelectStage : public Stage {
     // finalists fitted on one half of the part and scored on the other (SynthesisOptions::heldOut);
     // 13: each finalist's share of its render in colours the photo lacks (fit.finalists[].
     // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside);
-    // 14: the finalists' short fits weigh the spectral shape (SynthesisOptions::bandShape)
-    decl.version = 14;
+    // 14: the finalists' short fits weigh the spectral shape (SynthesisOptions::bandShape); 15:
+    // a part's given category (`parts.<name>.category`) restricts the vote and the finalists
+    decl.version = 15;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -57,9 +59,16 @@ class SelectStage : public Stage {
     p.heldOut = false;
     p.startValues.clear();
     p.startUv = UvParams();
+    // the user's category (`parts.<name>.category`): only its graphs vote and are finalists, one
+    // of them wins (SynthesisOptions::textureRequired: the user says what the part is made of),
+    // and the small-part rule does not apply (the photo need not show the texture: the user
+    // knows it)
+    const std::optional<std::string>& given = in.partCategory(u);
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
-    } else if (isSmallPart(view.photoMask.at(p.id), camera.width(), camera.height())) {
+    } else if (given && *given == "homogeneous") {
+      p.graph = "homogeneous";
+    } else if (!given && isSmallPart(view.photoMask.at(p.id), camera.width(), camera.height())) {
       p.graph = "homogeneous";
     } else {
       if (!bank_) {
@@ -72,9 +81,16 @@ class SelectStage : public Stage {
       // it into texture space and removes smooth shading before the kNN vote
       const cv::Mat& photo = in.photo(p.view);
       const cv::Mat& fit = view.fitMask.at(p.id);
-      const SynthesisOptions synthesis = in.synthesisOptions();
+      SynthesisOptions synthesis = in.synthesisOptions();
       PartSelectionOptions so;
       if (synthesis.shortlist > 0 || synthesis.categories > 0) so.k = synthesis.voteK;
+      if (given) {
+        // as many short fits as without it, all of them on the category's graphs
+        so.category = *given;
+        synthesis.shortlist += std::max(0, synthesis.categories - 1);
+        synthesis.categories = std::min(synthesis.categories, 1);
+        synthesis.textureRequired = true;
+      }
       const bool aligned = cv::countNonZero(fit) > 0;
       const GraphChoice c =
           aligned ? selectForPart(*bank_, partPhoto(photo, view, p.id), fit, view.gbuffer.uv,

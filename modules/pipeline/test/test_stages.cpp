@@ -213,12 +213,14 @@ TEST_F(Stages_Keys, every_scene_json_value_changes_exactly_the_keys_downstream_o
 }
 
 TEST_F(Stages_Keys, adding_a_key_changes_exactly_the_keys_downstream_of_it) {
-  // keys the sample does not have: an environment light, a fixed material, a forced graph, a skip
+  // keys the sample does not have: an environment light, a fixed material, a forced graph, a
+  // given category, a skip
   const std::vector<std::pair<std::string, nlohmann::json>> added = {
       {"/lights/environment", {{"radiance", {1, 1, 1}}, {"rotation_deg", 30}}},
       {"/lights/environment/window_parts", {"wall_front"}},
       {"/parts/cabinet/fixed", {{"albedo", {0.3, 0.3, 0.3}}}},
       {"/parts/floor/graph", "wood_planks"},
+      {"/parts/floor/category", "wood"},
       {"/parts/rug/skip", true},
       {"/options/refine_poses", false}};
   for (const auto& [where, value] : added) {

@@ -580,7 +580,6 @@ void ExemplarBank::countRenderingsPerDraw() {
 GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool categoryFirst,
                                  bool distinctDraws) const {
   PS_Check(k >= 1, "select: k must be >= 1, got " << k);
-  GraphChoice choice;
   KnnResult r;
   if (!distinctDraws || maxRenderingsPerDraw_ <= 1) {
     r = index_->search(project(key), k);
@@ -598,6 +597,36 @@ GraphChoice ExemplarBank::select(const std::vector<float>& key, int k, bool cate
       r.distance.push_back(all.distance[i]);
     }
   }
+  return vote(r, categoryFirst);
+}
+
+GraphChoice ExemplarBank::selectInCategory(const std::vector<float>& key, int k,
+                                           const std::string& category) const {
+  PS_Check(k >= 1, "selectInCategory: k must be >= 1, got " << k);
+  PS_Check(std::find(categories_.begin(), categories_.end(), category) != categories_.end(),
+           "selectInCategory: no graph of the bank has the category '" << category << "'");
+  const std::vector<float> q = project(key);
+  const int d = indexDim();
+  std::vector<std::pair<float, int>> near;  // (distance, row) of the category's rows
+  for (int row = 0; row < rows(); ++row) {
+    if (categories_[exemplars_[row].graph] != category) continue;
+    const float* x = &keys_[static_cast<size_t>(row) * d];
+    double d2 = 0;
+    for (int c = 0; c < d; ++c) d2 += (x[c] - q[c]) * (x[c] - q[c]);
+    near.emplace_back(static_cast<float>(std::sqrt(d2)), row);
+  }
+  const size_t n = std::min(near.size(), static_cast<size_t>(k));
+  std::partial_sort(near.begin(), near.begin() + n, near.end());
+  KnnResult r;
+  for (size_t i = 0; i < n; ++i) {
+    r.index.push_back(near[i].second);
+    r.distance.push_back(near[i].first);
+  }
+  return vote(r, false);
+}
+
+GraphChoice ExemplarBank::vote(const KnnResult& r, bool categoryFirst) const {
+  GraphChoice choice;
   std::map<int, GraphVote> votes;
   std::map<std::string, GraphVote> catVotes;
   for (size_t i = 0; i < r.index.size(); ++i) {

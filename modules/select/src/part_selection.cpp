@@ -245,8 +245,9 @@ GraphChoice selectForPart(const ExemplarBank& bank, const cv::Mat& photo, const 
                           const PartSelectionOptions& options) {
   const PartTexture t =
       preparePartTexture(photo, mask, uv, shading, bank.options().shadingSigma, options);
-  return bank.select(describeTexture(t.image, t.mask, bank.options()), options.k,
-                     options.categoryFirst, options.distinctDraws);
+  const std::vector<float> key = describeTexture(t.image, t.mask, bank.options());
+  if (!options.category.empty()) return bank.selectInCategory(key, options.k, options.category);
+  return bank.select(key, options.k, options.categoryFirst, options.distinctDraws);
 }
 
 // ---------------------------------------------------------------- observation model

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -116,25 +117,45 @@ PartFitResult homogeneousPartFit(const GraphLibrary& library, const PartGeometry
   return fitPart(graph, geometry, photo, target, o);
 }
 
-void TextureEvidence::judge(const SynthesisOptions& options) {
-  pixelsOk = options.maxPixelErrorRatio <= 0 || !hasFlat ||
-             pixelRmse <= options.maxPixelErrorRatio * flatPixelRmse;
+namespace {
+/// a / b, where a test's quantity a is compared with its bar b: <= 1 passes (b = 0: 0 for a <= 0,
+/// else infinity; NaN fails)
+double toBar(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::infinity();
+  if (b > 0) return a / b;
+  return a <= 0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
+double TextureEvidence::worstRatio(const SynthesisOptions& options, bool* pixelsPass,
+                                   bool* contrastPass, bool* chromaPass) const {
+  double pixelRatio = 0, contrastRatio = 0, chromaRatio = 0;
+  if (options.maxPixelErrorRatio > 0 && hasFlat)
+    pixelRatio = toBar(pixelRmse, options.maxPixelErrorRatio * flatPixelRmse);
   // the contrast test needs a photo contrast measured on enough pixels (thin parts: no test)
-  contrastOk = options.maxContrastRatio <= 0 || photoContrastPixels < kMinContrastPixels ||
-               contrast <= options.maxContrastRatio * photoContrast;
+  if (options.maxContrastRatio > 0 && photoContrastPixels >= kMinContrastPixels)
+    contrastRatio = toBar(contrast, options.maxContrastRatio * photoContrast);
   // and structure the photo does not show at the coarser scale, the flat render's own (the
   // grid's noise) taken off in quadrature (too few cells: no such test)
   if (options.maxContrastRatio > 0 && options.coarseContrastScale > 1 &&
-      photoCoarsePixels >= kMinContrastPixels) {
-    contrastOk = contrastOk && beyondFlat(coarseContrast, flatCoarseContrast) <=
-                                   options.maxContrastRatio * photoCoarseContrast;
-  }
+      photoCoarsePixels >= kMinContrastPixels)
+    contrastRatio = std::max(contrastRatio, toBar(beyondFlat(coarseContrast, flatCoarseContrast),
+                                                  options.maxContrastRatio * photoCoarseContrast));
   // no more colours than the photo shows, the flat render's own (its light's) taken off
-  chromaOk = options.maxChromaRatio <= 0 || photoChromaPixels < kMinContrastPixels ||
-             beyondFlat(chroma, flatChroma) <= options.maxChromaRatio * photoChroma;
+  if (options.maxChromaRatio > 0 && photoChromaPixels >= kMinContrastPixels)
+    chromaRatio = toBar(beyondFlat(chroma, flatChroma), options.maxChromaRatio * photoChroma);
   // and hardly any pixel in colours the photo does not show, beyond the flat render's own
-  chromaOk = chromaOk && (options.maxChromaOutside <= 0 || photoChromaPixels < kMinContrastPixels ||
-                          chromaOutside - flatChromaOutside <= options.maxChromaOutside);
+  if (options.maxChromaOutside > 0 && photoChromaPixels >= kMinContrastPixels)
+    chromaRatio = std::max(chromaRatio,
+                           toBar(chromaOutside - flatChromaOutside, options.maxChromaOutside));
+  if (pixelsPass) *pixelsPass = pixelRatio <= 1;
+  if (contrastPass) *contrastPass = contrastRatio <= 1;
+  if (chromaPass) *chromaPass = chromaRatio <= 1;
+  return std::max({pixelRatio, contrastRatio, chromaRatio});
+}
+
+void TextureEvidence::judge(const SynthesisOptions& options) {
+  worstRatio(options, &pixelsOk, &contrastOk, &chromaOk);
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
@@ -350,16 +371,25 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     flat.coarse.median = homogeneous->coarseContrast;
     render.chroma.spread = f.chroma;
     flat.chroma.spread = homogeneous->chroma;
-    f.qualifies = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat, photoContrast,
-                           finalistTests)
-                      .ok();
+    const TextureEvidence e = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat,
+                                       photoContrast, finalistTests);
+    f.qualifies = e.ok();
+    f.testRatio = e.worstRatio(finalistTests);
   }
   const auto textured =
       std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {
         return f.graph != kHomogeneous && f.qualifies;
       });
   const SynthesisFinalist* win = nullptr;
-  if (textured == out.finalists.end())
+  if (options.textureRequired) {
+    // the user's category: a textured finalist wins whatever the homogeneous loss; if none
+    // passes the tests, the one nearest to its bars (the smallest worst ratio)
+    if (textured != out.finalists.end())
+      win = &*textured;
+    else
+      for (const SynthesisFinalist& f : out.finalists)
+        if (f.graph != kHomogeneous && (!win || f.testRatio < win->testRatio)) win = &f;
+  } else if (textured == out.finalists.end())
     win = homogeneous == out.finalists.end() ? nullptr : &*homogeneous;
   else if (homogeneous == out.finalists.end() ||
            textured->loss < (1 - options.textureMargin) * homogeneous->loss)

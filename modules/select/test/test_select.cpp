@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -216,6 +217,49 @@ TEST(Select_Bank, distinct_draws_vote_once_through_their_nearest_rendering) {
   int votes = 0;
   for (const GraphVote& v : draws.votes) votes += v.count;
   EXPECT_EQ(votes, k);
+}
+
+TEST(Select_Bank, a_vote_within_a_category_is_the_nearest_rows_of_that_category) {
+  // `parts.<name>.category`: the k nearest rows among the category's own, by exact distance in
+  // the indexed key space, whichever category the query looks like
+  const ExemplarBank& b = bank();
+  const ExemplarBankOptions& o = b.options();
+  MaterialGraph g = library().create("wood_planks");
+  const MaterialMaps maps = g.evaluate(64, MapSet::of({MapKind::Albedo, MapKind::Normal}));
+  const cv::Mat mask(64, 64, CV_8UC1, cv::Scalar(255));
+  const std::vector<float> key =
+      describeTexture(renderCanonicalPatch(maps, 64, 2.5f, 20.f), mask, o);
+  const std::vector<float> q = b.project(key);
+  const int k = 15;
+  for (const std::string category : {"tile", "wood", "fabric"}) {
+    const GraphChoice c = b.selectInCategory(key, k, category);
+    std::vector<double> nearest;  // the category's distances, by brute force
+    for (int r = 0; r < b.rows(); ++r) {
+      if (b.categories()[b.exemplars()[r].graph] != category) continue;
+      double d = 0;
+      for (int j = 0; j < b.indexDim(); ++j)
+        d += std::pow(q[j] - b.keys()[static_cast<size_t>(r) * b.indexDim() + j], 2);
+      nearest.push_back(std::sqrt(d));
+    }
+    std::sort(nearest.begin(), nearest.end());
+    ASSERT_EQ(c.neighbours.size(), static_cast<size_t>(k)) << category;
+    for (int i = 0; i < k; ++i) {
+      EXPECT_EQ(b.categories()[b.exemplars()[c.neighbours[i]].graph], category);
+      EXPECT_NEAR(c.distances[i], nearest[i], 1e-4 * (1 + nearest[i])) << category << " " << i;
+    }
+    int votes = 0;
+    for (const GraphVote& v : c.votes) {
+      EXPECT_EQ(v.category, category);
+      votes += v.count;
+    }
+    EXPECT_EQ(votes, k);
+    EXPECT_EQ(c.category, category);
+  }
+  // the unrestricted vote's nearest row is the nearest of its own category
+  const GraphChoice any = b.select(key, k);
+  const std::string own = b.categories()[b.exemplars()[any.neighbours[0]].graph];
+  EXPECT_EQ(b.selectInCategory(key, k, own).neighbours[0], any.neighbours[0]);
+  EXPECT_THROW(b.selectInCategory(key, k, "no_such_category"), Exception);
 }
 
 TEST(Select_Bank, held_out_draws_select_their_graph_and_category) {

@@ -186,6 +186,38 @@ TEST(Select_Synthesis, a_flat_part_stays_homogeneous) {
   }
 }
 
+TEST(Select_Synthesis, a_required_texture_wins_on_a_flat_part_nearest_to_its_bars) {
+  // `parts.<name>.category`: the user says the part is made of a textured material, so a graph
+  // wins where the homogeneous material would (the flat part above); the homogeneous finalist
+  // stays as the tests' reference, and the winner is the lowest-loss finalist that passes them,
+  // else the one nearest to passing
+  const GraphLibrary lib = GraphLibrary::load();
+  const Part s = renderFloor(nullptr);
+  const std::vector<GraphVote> votes = {vote("wood_planks", "wood", 3),
+                                        vote("wood_laminate", "wood", 2)};
+  SynthesisOptions o = finalists(2);
+  o.textureRequired = true;
+  const SynthesisChoice c = choose(lib, s, votes, o);
+  EXPECT_EQ(c.category, "wood");
+  const SynthesisFinalist* best = nullptr;  // what the rule says, from the finalists
+  bool anyQualifies = false;
+  for (const SynthesisFinalist& f : c.finalists) {
+    std::printf("  %-14s loss %.4f worst test ratio %.3f%s\n", f.graph.c_str(), f.loss,
+                f.testRatio, f.qualifies ? "" : " (fails)");
+    if (f.graph == "homogeneous") continue;
+    EXPECT_EQ(f.qualifies, f.testRatio <= 1) << f.graph;
+    anyQualifies = anyQualifies || f.qualifies;
+  }
+  ASSERT_EQ(c.finalists.size(), 3u);  // the homogeneous material is there, as the reference
+  for (const SynthesisFinalist& f : c.finalists) {  // sorted by loss
+    if (f.graph == "homogeneous") continue;
+    if (anyQualifies ? (f.qualifies && !best) : (!best || f.testRatio < best->testRatio))
+      best = &f;
+  }
+  ASSERT_NE(best, nullptr);
+  EXPECT_EQ(c.graph, best->graph);
+}
+
 TEST(Select_Synthesis, a_plain_part_with_a_few_strong_edges_gets_no_high_contrast_texture) {
   // A plain floor with things lying on it (a dark mat's outline, a bright strip): the loss's
   // mean subband energies see texture, the typical local contrast sees a plain floor
@@ -422,6 +454,13 @@ TEST(Select_Synthesis, texture_evidence_tests_pixel_error_and_contrast) {
   EXPECT_TRUE(right.ok());
   EXPECT_FALSE(wrong.pixelsOk);
   EXPECT_FALSE(wrong.contrastOk);
+  // the worst ratio to a bar: at most 1 exactly when every test passes, and it is the larger
+  // of the pixel error's and the contrast's ratios
+  EXPECT_LE(right.worstRatio(o), 1.0);
+  EXPECT_GT(wrong.worstRatio(o), 1.0);
+  EXPECT_GE(wrong.worstRatio(o),
+            wrong.pixelRmse / (o.maxPixelErrorRatio * wrong.flatPixelRmse) - 1e-12);
+  EXPECT_GE(wrong.worstRatio(o), wrong.contrast / (o.maxContrastRatio * wrong.photoContrast) - 1e-12);
   SynthesisOptions off;
   off.maxPixelErrorRatio = 0;
   off.maxContrastRatio = 0;

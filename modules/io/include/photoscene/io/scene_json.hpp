@@ -76,6 +76,9 @@ struct HomogeneousDesc {
 
 struct PartDesc {
   std::optional<std::string> graph;
+  /// `category`: the part's material category (a library category: wood, tile, ...); selection
+  /// picks a graph of it, and the fit keeps it (optional key, added to the format's contract)
+  std::optional<std::string> category;
   std::optional<HomogeneousDesc> fixed;
   bool skip = false;
 };

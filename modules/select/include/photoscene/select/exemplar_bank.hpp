@@ -205,6 +205,12 @@ class ExemplarBank {
   /// graph overall).
   GraphChoice select(const std::vector<float>& key, int k = 21, bool categoryFirst = false,
                      bool distinctDraws = false) const;
+  /// The same vote among the exemplars of one category only (`parts.<name>.category`: the user
+  /// knows the part is wood, the vote picks which wood graph): the k nearest rows of that
+  /// category by exact search in the indexed key space, whatever the index type. Throws
+  /// ps::Exception for a category no graph of the bank has.
+  GraphChoice selectInCategory(const std::vector<float>& key, int k,
+                               const std::string& category) const;
   /// The most exemplar rows any one (graph, draw) has: canonical scales plus observed renderings.
   int maxRenderingsPerDraw() const { return maxRenderingsPerDraw_; }
   /// The options the bank was built with.
@@ -215,6 +221,8 @@ class ExemplarBank {
  private:
   ExemplarBank() = default;
   void learnProjection();
+  /// The vote of the neighbours r (rows, nearest first).
+  GraphChoice vote(const KnnResult& r, bool categoryFirst) const;
   void countRenderingsPerDraw();
   std::vector<std::string> graphNames_, categories_;
   std::vector<Exemplar> exemplars_;

@@ -48,6 +48,9 @@ struct PartSelectionOptions {
   double footprintPercentile = 0.75;
   int maxTextureSize = 384;  ///< cap on the unwarped texture's larger side (texels)
   int erodePixels = 1;       ///< mask erosion before the query (kept only if half remains)
+  /// Only graphs of this category vote (ExemplarBank::selectInCategory; categoryFirst and
+  /// distinctDraws do not apply); empty: every graph.
+  std::string category;
   bool IsValid(std::string* error) const;
 };
 

@@ -114,6 +114,11 @@ struct SynthesisOptions {
   /// The pipeline's fit goes on from the winner's short fit (its values and UV) instead of
   /// starting over from the graph's defaults.
   bool warmStartFit = false;
+  /// A textured finalist wins (the user gave the part's category, `parts.<name>.category`): the
+  /// homogeneous finalist, when there is one, is only the reference of the tests; the
+  /// lowest-loss textured finalist that passes them wins, else the one nearest to passing (the
+  /// smallest TextureEvidence::worstRatio), whatever the homogeneous loss.
+  bool textureRequired = false;
   /// The spectral shape's weight in the finalists' short fits and scores (PartFitOptions::
   /// bandShape, the texture loss's band energy shares); unset: the caller's fit options' own.
   std::optional<float> bandShape;
@@ -139,6 +144,7 @@ struct SynthesisFinalist {
   double chroma = 0;          ///< chromaticity spread of its render over the part
   double chromaOutside = 0;   ///< share of its render outside the photo's colours (chromaOutside)
   bool qualifies = true;  ///< passes the pixel-error and contrast tests (textured finalists)
+  double testRatio = 0;   ///< TextureEvidence::worstRatio of those tests (<= 1: qualifies)
   double seconds = 0;  ///< of the short fit
   /// the short fit (values, UV, roughness; the fit starts there if warmStartFit): with held-back
   /// scoring the fit on the first half, its render both halves' fits, each on its own half
@@ -185,8 +191,14 @@ struct TextureEvidence {
   double chromaOutside = 0, flatChromaOutside = 0;
   bool pixelsOk = true, contrastOk = true, chromaOk = true;
   bool ok() const { return pixelsOk && contrastOk && chromaOk; }
-  /// Sets pixelsOk, contrastOk and chromaOk from the numbers above (the one place the tests are
-  /// made: chooseBySynthesis on its finalists, textureEvidence on a full fit).
+  /// Each test's quantity over its bar (the pixel error over maxPixelErrorRatio x the flat
+  /// render's, the contrast over maxContrastRatio x the photo's, ...; a test not made counts 0),
+  /// the largest of them: at most 1 passes every test. The one place the tests are made; the
+  /// flags say which pass.
+  double worstRatio(const SynthesisOptions& options, bool* pixelsPass = nullptr,
+                    bool* contrastPass = nullptr, bool* chromaPass = nullptr) const;
+  /// Sets pixelsOk, contrastOk and chromaOk from the numbers above (chooseBySynthesis on its
+  /// finalists, textureEvidence on a full fit).
   void judge(const SynthesisOptions& options);
 };
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
