@@ -63,6 +63,7 @@ struct ReportPart {
   /// pixels a side of the cells of the coarse contrasts (fit.coarse_contrast_scale)
   int coarseScale = 2;
   std::string textureRejected;  ///< the graph whose full fit was rejected for homogeneous
+  std::string categoryGiven;    ///< `parts.<name>.category` of the scene (empty: none)
   json metrics;  ///< metrics.json's parts.<name>, or null
 };
 

@@ -423,6 +423,8 @@ ReportPart gatherPart(const fs::path& outDir, const std::string& name, const jso
     p.coarseScale = s->get<int>();
   if (const json* r = path(p.material, {"fit", "texture_rejected"}); r && r->is_string())
     p.textureRejected = r->get<std::string>();
+  if (const json* c = path(p.material, {"fit", "category_given"}); c && c->is_string())
+    p.categoryGiven = c->get<std::string>();
   return p;
 }
 

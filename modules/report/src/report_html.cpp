@@ -324,7 +324,9 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
        "of the votes; the chosen graph is marked). Previews show each graph at its default "
        "parameters. To force a graph, set it in scene.json and rerun (only that part and what "
        "reads every part is redone): <code>\"parts\": { \"&lt;part&gt;\": { \"graph\": "
-       "\"&lt;graph&gt;\" } }</code>.</p>\n<table><thead><tr><th>part</th><th>candidates (best "
+       "\"&lt;graph&gt;\" } }</code>, or give its material category and let selection choose "
+       "among that category's graphs: <code>\"parts\": { \"&lt;part&gt;\": { \"category\": "
+       "\"wood\" } }</code>.</p>\n<table><thead><tr><th>part</th><th>candidates (best "
        "first)</th><th>force with</th></tr></thead><tbody>\n";
   for (const ReportPart& p : d.parts) {
     if (p.candidates.empty()) continue;
@@ -370,7 +372,13 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
           << ".";
       if (std::isfinite(p.photoChroma) && p.photoChroma > 0)
         h << " Its colour spread: " << fmtNum(p.photoChroma, 3) << ".";
-      h << " A graph must beat the homogeneous loss by the margin and pass the tests.";
+      if (p.categoryGiven.empty())
+        h << " A graph must beat the homogeneous loss by the margin and pass the tests.";
+      else
+        h << " The scene gives the category <b>" << html(p.categoryGiven)
+          << "</b>: only its graphs were finalists, and the lowest-loss one that passes the tests"
+             " wins (else the one nearest to passing); the homogeneous material is only the"
+             " tests' reference.";
       if (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0)
         h << " At " << cells << " a graph is judged by the contrast it adds to the homogeneous"
              " render's (the incident-light grid's noise is in both).";

@@ -73,6 +73,31 @@ TEST(Report_Write, sample_twin_report_references_every_part_and_view_without_met
   EXPECT_FALSE(contains(page, "type=\"module\""));  // classic scripts only: works from file://
 }
 
+TEST(Report_Write, a_part_whose_category_the_scene_gives_says_how_its_graph_was_chosen) {
+  TempDir dir("ps_report");
+  const fs::path out = copySampleTwin(dir);
+  const fs::path mf = out / "materials/sofa_fabric.json";
+  nlohmann::json m = io::readJsonFile(mf);
+  m["graph"] = "fabric_twill";
+  m["fit"]["category_given"] = "fabric";  // what export writes for parts.<name>.category
+  m["fit"]["candidates"] = nlohmann::json::array(
+      {{{"graph", "fabric_twill"}, {"category", "fabric"}, {"score", 0.6}, {"votes", 3}},
+       {{"graph", "fabric_basket"}, {"category", "fabric"}, {"score", 0.4}, {"votes", 2}}});
+  m["fit"]["finalists"] = nlohmann::json::array(
+      {{{"graph", "homogeneous"}, {"loss", 0.1}, {"contrast", 0.01}, {"qualifies", true}},
+       {{"graph", "fabric_twill"}, {"loss", 0.12}, {"contrast", 0.05}, {"qualifies", true}}});
+  io::writeJsonFile(mf, m);
+  ReportOptions o;
+  o.viewerDir = fakeViewer(dir);
+  writeReport(out, o);
+  const std::string page = io::readTextFile(out / "report.html");
+  const std::string row = page.substr(page.find("id=\"candidates-sofa_fabric\""));
+  const std::string cells = row.substr(0, row.find("</tr>"));
+  EXPECT_TRUE(contains(cells, "The scene gives the category <b>fabric</b>"));
+  EXPECT_FALSE(contains(cells, "A graph must beat the homogeneous loss"));
+  EXPECT_TRUE(contains(page, "{ \"category\": \"wood\" } }"));  // how to give one
+}
+
 TEST(Report_Write, each_part_shows_its_top_candidates_with_scores_previews_and_how_to_force) {
   TempDir dir("ps_report");
   const fs::path out = copySampleTwin(dir);
