@@ -71,6 +71,11 @@ class FitStage : public Stage {
     }
     const PartFitResult r = fitPart(graph, geo, photo, target, o, startUv);
     if (r.cancelled) return false;  // not a result: nothing is stored, the runner stops
+    spdlog::debug("fit {}: spectral prior {} (log-scale {:.2f}, rotation {:.0f} deg, response "
+                  "{:.2f}); fitted log-scale {:.2f}, rotation {:.0f} deg",
+                  p.name, r.spectrum.ok ? "used" : "not used", r.spectrum.logScale,
+                  degrees(r.spectrum.rotation), r.spectrum.response, r.uv.logScale,
+                  degrees(r.uv.rotation));
     // texture only where the photo shows one, judged on the full fit as select judges its short
     // fits (select/synthesis.hpp, textureEvidence): a fitted render that misses the photo's
     // pixels by more than maxPixelErrorRatio x the homogeneous material's, or shows more than
