@@ -4,6 +4,9 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
+#include "photoscene/io/json.hpp"
 #include "photoscene/pipeline.hpp"
 
 namespace ps::test {
@@ -16,6 +19,15 @@ inline const std::filesystem::path kSample =
 /// loaded by the others.
 inline const std::filesystem::path kBankCache =
     std::filesystem::path(PS_BINARY_DIR) / "photoscene-cache";
+
+/// The bundled sample's scene.json with its files named by absolute path (to be written elsewhere).
+inline nlohmann::json sampleSceneJson() {
+  nlohmann::json j = io::readJsonFile(kSample / "scene.json");
+  j["geometry"] = (kSample / "room.obj").string();
+  j["views"][0]["image"] = (kSample / "photos/view0.png").string();
+  j["views"][0]["segments"] = (kSample / "segments/view0.png").string();
+  return j;
+}
 
 /// A run of `scene` into `out` at preset fast with 128 px maps and the shared bank cache.
 inline PipelineOptions sampleOptions(const std::filesystem::path& scene,

@@ -27,6 +27,7 @@ using Pointer = nlohmann::json::json_pointer;
 
 using test::kSample;
 using test::sampleOptions;
+using test::sampleSceneJson;
 
 /// The bundled sample copied into a temporary folder, so that its files can be edited.
 struct SampleCopy {
@@ -424,15 +425,6 @@ TEST(Stages_Runner, a_new_stage_is_keyed_cached_and_reported_from_its_declaratio
 }
 
 // ---------------------------------------------------------------- stale cache (issue 21)
-
-/// The bundled sample's scene.json with its files named by absolute path (to be written elsewhere).
-nlohmann::json sampleSceneJson() {
-  nlohmann::json j = io::readJsonFile(kSample / "scene.json");
-  j["geometry"] = (kSample / "room.obj").string();
-  j["views"][0]["image"] = (kSample / "photos/view0.png").string();
-  j["views"][0]["segments"] = (kSample / "segments/view0.png").string();
-  return j;
-}
 
 /// A quick run of `scene` into `out`: 96 px wide, 2 fit steps, 16-texel maps, 2 spp, no glTF or
 /// report.
