@@ -1478,19 +1478,82 @@ perforated_metal()
 
 
 def tread_plate():
-    g = G('metal_tread_plate', 'metal', 'Diamond (tread) plate: raised short bars alternating in direction on steel / aluminium.')
+    g = G('metal_tread_plate', 'metal', 'Diamond (tread) plate: raised short bars alternating in direction on steel / '
+          'aluminium, mottled in brightness only (one colour: a free three-colour ramp drifted to red, yellow and '
+          'purple blotches when fitted to worn plates).')
     diagonals(g, ('d1', 'd2'), 24, 0.3, 0.3)
     g.n('sel', 'checker', count=6, softness=0.01)
     blend(g, 'bars', 'd1', 'd2', 'sel')
     g.n('cell', 'shape', count=12, shape='bell', size=0.8)
     g.n('h', 'blend', {'fg': 'cell', 'bg': 'bars'}, mode='multiply')
     g.n('br', 'fbm', scale_x=4, scale_y=4, octaves=4, roughness=0.5, seed=661)
-    colors3(g, 'col', 'br', [0.5, 0.5, 0.52], [0.62, 0.62, 0.64], [0.72, 0.72, 0.74], 0.5, 'metal')
+    g.n('metal_base', 'uniform_color', color=[0.62, 0.62, 0.64])
+    g.p('metal_color', 'metal_base.color', doc="the plate's mean colour (linear RGB); its mottling varies only its "
+        'brightness, so the fit cannot paint it in several hues')
+    g.n('shade', 'levels', {'in': 'br'}, in_low=0.2, in_high=0.8, out_low=0.75, out_high=1.15)
+    g.p('mottle_dark', 'shade.out_low', doc='brightness of the darkest mottling relative to metal_color', min=0.3, max=1.0)
+    g.p('mottle_light', 'shade.out_high', doc='brightness of the lightest mottling relative to metal_color', min=1.0,
+        max=1.5)
+    g.n('mottled', 'blend', {'fg': 'shade', 'bg': 'metal_base'}, mode='multiply')
+    g.n('bar_shade', 'levels', {'in': 'h'}, out_low=0.85, out_high=1.0)
+    g.p('groove_brightness', 'bar_shade.out_low', doc='albedo between the bars relative to on them (1: the same)',
+        min=0.4, max=1.0)
+    g.n('col', 'blend', {'fg': 'bar_shade', 'bg': 'mottled'}, mode='multiply')
     rough_range(g, 'br', 0.25, 0.45)
     finish(g, 'h', 'rough', 'col', 0.01, metallic=fully_metallic(g), shift=(1 / 48, 1 / 48))
 
 
 tread_plate()
+
+
+def panels_weathered():
+    g = G('metal_panels_weathered', 'metal',
+          'Weathered metal sheet in panels (cladding, plates, a cabinet side): a painted or bare base with broad '
+          'stains and vertical run-off streaks, darker seams between the panels, and rust spreading from the seams in '
+          'rust colours (hue and lightness vary within a narrow band, so the fit cannot turn it purple). Closes the '
+          'rusted and stained plates of the coverage set (modules/graph/README.md).')
+    g.n('panels', 'tile', layout='grid', rows=4, cols=2, gap=0.015, bevel=0.02, lum_var=0.15, seed=801)
+    g.n('base', 'uniform_color', color=[0.42, 0.43, 0.45])
+    g.p('base_color', 'base.color', doc='paint or bare metal colour (linear RGB)')
+    g.n('stain_noise', 'fbm', scale_x=4, scale_y=4, octaves=6, roughness=0.6, seed=802)
+    g.n('stain', 'levels', {'in': 'stain_noise'}, in_low=0.2, in_high=0.8, out_low=0.75, out_high=1.0)
+    g.p('stain_floor', 'stain.out_low', doc='brightness of the darkest stains (1: none)', min=0.3, max=1.0)
+    g.n('streak_noise', 'fbm', scale_x=24, scale_y=2, octaves=4, roughness=0.5, seed=803)
+    g.n('streak', 'levels', {'in': 'streak_noise'}, in_low=0.3, in_high=0.7, out_low=0.8, out_high=1.0)
+    g.p('streak_floor', 'streak.out_low', doc='brightness of the darkest run-off streaks (1: none)', min=0.4, max=1.0)
+    g.n('stained', 'blend', {'fg': 'stain', 'bg': 'base'}, mode='multiply')
+    g.n('streaked', 'blend', {'fg': 'streak', 'bg': 'stained'}, mode='multiply')
+    g.n('varied', 'blend', {'fg': 'panels.random', 'bg': 'streaked'}, mode='overlay')
+    g.p('panel_variation', 'panels.lum_var', doc='per-panel shade spread', min=0.0, max=0.6)
+    g.n('seam', 'levels', {'in': 'panels.height'}, out_low=0.5, out_high=1.0)
+    g.p('seam_darkness', 'seam.out_low', doc='brightness in the seams (1: invisible seams)', min=0.0, max=1.0)
+    g.p('panel_rows', 'panels.rows', doc='panel rows per texture', min=1, max=8)
+    g.p('panel_cols', 'panels.cols', doc='panels per row per texture', min=1, max=8)
+    g.n('paint', 'blend', {'fg': 'seam', 'bg': 'varied'}, mode='multiply')
+    # rust: a noise field raised along the seams, thresholded; its colours a fixed rust ramp that
+    # only shifts a little in hue and lightness
+    g.n('rust_noise', 'fbm', scale_x=8, scale_y=3, octaves=7, roughness=0.65, seed=804)
+    g.n('gap', 'invert', {'in': 'panels.height'})
+    g.n('rust_field', 'blend', {'fg': 'gap', 'bg': 'rust_noise'}, mode='add', opacity=0.3)
+    g.n('rust_mask', 'histogram_scan', {'in': 'rust_field'}, position=0.2, contrast=0.7)
+    g.p('rust_amount', 'rust_mask.position', doc='share of the surface rusted (0: none)', min=0.0, max=0.9)
+    g.n('rust_grain', 'fbm', scale_x=24, scale_y=24, octaves=4, roughness=0.55, seed=805)
+    g.n('rust_ramp', 'gradient_map', {'in': 'rust_grain'}, color_0=[0.10, 0.04, 0.02], color_1=[0.33, 0.13, 0.05],
+        color_2=[0.55, 0.30, 0.12], position=0.5)
+    g.n('rust', 'hsl', {'in': 'rust_ramp'}, hue=0.0, saturation=1.0, lightness=0.0)
+    g.p('rust_hue', 'rust.hue', doc='hue shift of the rust colours (turns; a narrow band around orange-brown)',
+        min=-0.04, max=0.04)
+    g.p('rust_lightness', 'rust.lightness', doc='added to the rust colours', min=-0.1, max=0.2)
+    blend(g, 'alb', 'rust', 'paint', 'rust_mask')
+    rough_range(g, 'rust_mask', 0.4, 0.8, names=('roughness_paint', 'roughness_rust'))
+    g.n('bare', 'invert', {'in': 'rust_mask'})
+    g.n('metal', 'levels', {'in': 'bare'}, out_low=0.0, out_high=0.3)
+    g.p('metallic', 'metal.out_high', doc='metalness of the unrusted surface (0: painted)')
+    g.n('h', 'blend', {'fg': 'rust_noise', 'bg': 'panels.height'}, mode='copy', opacity=0.25)
+    finish(g, 'h', 'rough', 'alb', 0.005, metallic='metal', normal_max=0.03, shift=(1 / 64, 1 / 64))
+
+
+panels_weathered()
 
 
 def woven_vinyl():
