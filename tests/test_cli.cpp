@@ -47,6 +47,24 @@ TEST(Cli, check_accepts_a_valid_scene) {
   EXPECT_TRUE(contains(r.output, "part walls")) << r.output;
 }
 
+// `check` shows what `parts` asks of each part and refuses what `run` refuses there: a graph or
+// category the library lacks (exit 2, naming the key), nothing written.
+TEST(Cli, check_shows_and_checks_the_parts_settings) {
+  CliScene s;
+  s.json["parts"]["walls"] = {{"category", "concrete"}};
+  Result r = runPhotoscene("check " + s.write());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "category concrete (given)")) << r.output;
+  s.json["parts"]["walls"] = {{"category", "granite"}};
+  r = runPhotoscene("check " + s.write());
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "parts.walls.category")) << r.output;
+  s.json["parts"]["walls"] = {{"graph", "no_such_graph"}};
+  r = runPhotoscene("check " + s.write());
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "parts.walls.graph")) << r.output;
+}
+
 // `check` says which of the OBJ's objects the poses stage may move (the furniture, not the room's
 // shell, lamps or window), and that options.refine_poses: false turns it off.
 TEST(Cli, check_lists_the_objects_the_poses_stage_may_move) {

@@ -7,6 +7,8 @@
 #include "commands.hpp"
 #include "photoscene/align/pose.hpp"
 #include "photoscene/core/memory.hpp"
+#include "photoscene/graph/graph_library.hpp"
+#include "photoscene/pipeline.hpp"
 #include "photoscene/report/views_summary.hpp"
 #include "photoscene/scene.hpp"
 
@@ -20,6 +22,14 @@ void printSummary(const Scene& scene) {
   for (const Part& p : scene.parts) {
     std::string note;
     if (p.generatedUvTriangles > 0) note = fmt::format("  (UVs generated for {} triangles)", p.generatedUvTriangles);
+    // what scene.json's `parts` asks of it
+    if (const auto it = scene.desc.parts.find(p.name); it != scene.desc.parts.end()) {
+      const io::PartDesc& d = it->second;
+      if (d.graph) note += "  graph " + *d.graph + " (forced)";
+      if (d.category) note += "  category " + *d.category + " (given)";
+      if (d.fixed) note += "  fixed material";
+      if (d.skip) note += "  skipped";
+    }
     fmt::print("  part {:<28} {:>7} triangles{}\n", p.name, p.triangleCount, note);
   }
   if (!scene.mesh.objectNames.empty()) {  // what the poses stage may move onto the labels
@@ -56,7 +66,9 @@ void addCheckCommand(CLI::App& root) {
       printSummary(loadTwin(*scenePath).scene);
       fmt::print("{}", report::viewsText(report::summarizeViews(*scenePath)));
     } else {
-      printSummary(loadScene(*scenePath));
+      const Scene scene = loadScene(*scenePath);
+      checkPartSettings(scene.desc, GraphLibrary::load());  // graphs and categories `parts` names
+      printSummary(scene);
     }
     fmt::print("peak memory {:.0f} MiB\n", peakMemoryMiB());
   });

@@ -12,7 +12,7 @@
 #include "photoscene/select.hpp"
 #include "stage.hpp"
 
-namespace ps::pipeline {
+namespace ps {
 
 namespace {
 
@@ -24,30 +24,41 @@ std::string libraryCategories(const GraphLibrary& library) {
   return out;
 }
 
-// What the user asked for, checked before anything is written: the preset, the graphs `parts`
-// forces (the texture size is checked before the scene is read).
-void checkPresetAndGraphs(const RunInputs& in) {
-  const PipelineOptions& o = in.options;
-  if (in.preset != "fast" && in.preset != "balanced" && in.preset != "paper")
-    throw InputError(o.scene.string(), "options.preset",
-                     "expected fast, balanced or paper, got '" + in.preset + "'");
-  const std::vector<std::string> names = in.library->names();
-  for (const auto& [name, part] : in.scene.desc.parts) {
+}  // namespace
+
+void checkPartSettings(const io::SceneDesc& scene, const GraphLibrary& library) {
+  const std::vector<std::string> names = library.names();
+  for (const auto& [name, part] : scene.parts) {
     if (part.graph && !std::binary_search(names.begin(), names.end(), *part.graph))
-      throw InputError(o.scene.string(), "parts." + name + ".graph",
+      throw InputError(scene.file.string(), "parts." + name + ".graph",
                        "expected a graph of the library (`photoscene graphs --list`), got '" +
                            *part.graph + "'");
     if (!part.category) continue;
-    if (in.library->namesInCategory(*part.category).empty())
-      throw InputError(o.scene.string(), "parts." + name + ".category",
+    if (library.namesInCategory(*part.category).empty())
+      throw InputError(scene.file.string(), "parts." + name + ".category",
                        "expected a category with graphs in the library (" +
-                           libraryCategories(*in.library) + "), got '" + *part.category + "'");
-    if (part.graph && in.library->get(*part.graph).category() != *part.category)
-      throw InputError(o.scene.string(), "parts." + name + ".category",
+                           libraryCategories(library) + "), got '" + *part.category + "'");
+    if (part.graph && library.get(*part.graph).category() != *part.category)
+      throw InputError(scene.file.string(), "parts." + name + ".category",
                        "expected the category of parts." + name + ".graph ('" + *part.graph +
-                           "' is " + in.library->get(*part.graph).category() + "), got '" +
+                           "' is " + library.get(*part.graph).category() + "), got '" +
                            *part.category + "'");
   }
+}
+
+}  // namespace ps
+
+namespace ps::pipeline {
+
+namespace {
+
+// What the user asked for, checked before anything is written: the preset, and what `parts`
+// asks of the library (the texture size is checked before the scene is read).
+void checkPresetAndGraphs(const RunInputs& in) {
+  if (in.preset != "fast" && in.preset != "balanced" && in.preset != "paper")
+    throw InputError(in.options.scene.string(), "options.preset",
+                     "expected fast, balanced or paper, got '" + in.preset + "'");
+  checkPartSettings(in.scene.desc, *in.library);
 }
 
 // A view at the working resolution (`workWidth` pixels across, never enlarged).

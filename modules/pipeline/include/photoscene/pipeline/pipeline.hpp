@@ -113,6 +113,14 @@ struct PipelineResult {
 ///                              first writing the file $PS_PAUSE_MARKER when that is set
 PipelineResult runPipeline(const PipelineOptions& options);
 
+namespace io { struct SceneDesc; }
+class GraphLibrary;
+/// What `parts` asks of the library, checked as runPipeline checks it before anything is written:
+/// every `parts.<name>.graph` is a graph of `library`, every `parts.<name>.category` a category
+/// with graphs in it and, with a graph given too, that graph's category. Throws ps::InputError
+/// naming scene.file and the key.
+void checkPartSettings(const io::SceneDesc& scene, const GraphLibrary& library);
+
 /// The selection-by-synthesis settings a preset uses when PipelineOptions::selection is unset
 /// (fast 2 / 2 / 8, balanced 3 / 3 / 12, paper 5 / 4 / 30: shortlist / categories / steps).
 SynthesisOptions synthesisPreset(const std::string& preset);
