@@ -1026,7 +1026,8 @@ int main(int argc, char** argv) {
   // these replaces the preset's settings by the preset's own (synthesisPreset) plus the ones given
   SynthesisOptions synthesis;
   int startDraw = SynthesisOptions{}.startFromNearestDraw,
-      warmFit = SynthesisOptions{}.warmStartFit, heldOut = SynthesisOptions{}.heldOut;
+      warmFit = SynthesisOptions{}.warmStartFit, heldOut = SynthesisOptions{}.heldOut,
+      textureRequired = SynthesisOptions{}.textureRequired;
   app.add_option("--select-shortlist", synthesis.shortlist, "graphs of the vote fitted on the part");
   app.add_option("--select-categories", synthesis.categories, "categories among the finalists");
   app.add_option("--select-steps", synthesis.steps, "Adam steps of each finalist");
@@ -1051,6 +1052,9 @@ int main(int argc, char** argv) {
                  "1: the fit goes on from the synthesis winner, 0: starts from the defaults");
   app.add_option("--select-held-out", heldOut,
                  "1: finalists fitted on one half of a part, scored on the other; 0: on the whole");
+  app.add_option("--select-texture-required", textureRequired,
+                 "1: a part whose category is given gets one of its graphs whatever the "
+                 "homogeneous loss (with --given-category); 0: weighed against it");
   std::string fitViews;
   app.add_option("--fit-views", fitViews,
                  "best: each part fitted in the view that sees it best; all: a homogeneous part over "
@@ -1094,7 +1098,7 @@ int main(int argc, char** argv) {
                            "--select-contrast-ratio", "--select-chroma-ratio",
                            "--select-chroma-outside", "--select-coarse-scale",
                            "--select-start-draw", "--select-warm-fit", "--select-held-out",
-                           "--select-shape"})
+                           "--select-shape", "--select-texture-required"})
     if (app.count(flag) > 0) {
       SynthesisOptions s = synthesisPreset(o.preset);
       if (app.count("--select-shortlist")) s.shortlist = synthesis.shortlist;
@@ -1111,6 +1115,7 @@ int main(int argc, char** argv) {
       s.startFromNearestDraw = startDraw != 0;
       s.warmStartFit = warmFit != 0;
       s.heldOut = heldOut != 0;
+      s.textureRequired = textureRequired != 0;
       o.selection = s;
     }
 

@@ -28,8 +28,9 @@ namespace {
 // (SynthesisOptions::maxChromaRatio), and a graph forced by `parts.<name>.graph` is kept whatever
 // the tests say; 14 = the colour gamut test (SynthesisOptions::maxChromaOutside); 15 = the
 // spectral shape in the loss of balanced and fast (PartFitOptions::bandShape); 16 = a graph of
-// the category the scene gives (`parts.<name>.category`) is kept whatever the tests say.
-constexpr uint64_t kFitVersion = 16;
+// the category the scene gives (`parts.<name>.category`) is kept whatever the tests say when the
+// selection options insist (SynthesisOptions::textureRequired); 17 = only then.
+constexpr uint64_t kFitVersion = 17;
 
 class FitStage : public Stage {
  public:
@@ -52,7 +53,8 @@ class FitStage : public Stage {
 
   // The graph's fit; false when cancelled. Sets *homogeneous when the fitted texture is rejected
   // (the part is then fitted as homogeneous); a graph the scene forces (`parts.<name>.graph`), or
-  // one of the category it gives (`parts.<name>.category`), is the user's choice and is kept.
+  // one of the category it gives (`parts.<name>.category`) when the selection options insist
+  // (SynthesisOptions::textureRequired), is the user's choice and is kept.
   bool fitTexture(const Reads& in, PartWork& p, const PartGeometry& geo, const cv::Mat& photo,
                   const cv::Mat& mask, bool forced, bool* homogeneous) const {
     PartFitOptions o = in.fitOptions();
@@ -136,7 +138,9 @@ class FitStage : public Stage {
     bool homogeneous = p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels;
     if (!homogeneous &&
         !fitTexture(in, p, geo, photo, mask,
-                    in.partGraph(u).has_value() || in.partCategory(u).has_value(), &homogeneous))
+                    in.partGraph(u).has_value() ||
+                        (in.partCategory(u).has_value() && in.synthesisOptions().textureRequired),
+                    &homogeneous))
       return false;
     if (homogeneous) {
       const HomogeneousFit f =

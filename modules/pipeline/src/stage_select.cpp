@@ -40,8 +40,9 @@ class SelectStage : public Stage {
     // 13: each finalist's share of its render in colours the photo lacks (fit.finalists[].
     // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside);
     // 14: the finalists' short fits weigh the spectral shape (SynthesisOptions::bandShape); 15:
-    // a part's given category (`parts.<name>.category`) restricts the vote and the finalists
-    decl.version = 15;
+    // a part's given category (`parts.<name>.category`) restricts the vote and the finalists; 16:
+    // weighed against the homogeneous material unless SynthesisOptions::textureRequired
+    decl.version = 16;
   }
 
   bool applies(const Context& ctx, int u) const override {
@@ -59,16 +60,18 @@ class SelectStage : public Stage {
     p.heldOut = false;
     p.startValues.clear();
     p.startUv = UvParams();
-    // the user's category (`parts.<name>.category`): only its graphs vote and are finalists, one
-    // of them wins (SynthesisOptions::textureRequired: the user says what the part is made of),
-    // and the small-part rule does not apply (the photo need not show the texture: the user
-    // knows it)
+    // the user's category (`parts.<name>.category`): only its graphs vote and are finalists, and
+    // they are weighed against the homogeneous material as any part's are (a texture only where
+    // the photo shows one, and never one of another category). With the selection options'
+    // textureRequired the user insists: one of the category's graphs wins whatever the
+    // homogeneous loss, and the small-part rule does not apply.
     const std::optional<std::string>& given = in.partCategory(u);
+    const bool insist = given && in.synthesisOptions().textureRequired;
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
     } else if (given && *given == "homogeneous") {
       p.graph = "homogeneous";
-    } else if (!given && isSmallPart(view.photoMask.at(p.id), camera.width(), camera.height())) {
+    } else if (!insist && isSmallPart(view.photoMask.at(p.id), camera.width(), camera.height())) {
       p.graph = "homogeneous";
     } else {
       if (!bank_) {
@@ -82,6 +85,7 @@ class SelectStage : public Stage {
       const cv::Mat& photo = in.photo(p.view);
       const cv::Mat& fit = view.fitMask.at(p.id);
       SynthesisOptions synthesis = in.synthesisOptions();
+      synthesis.textureRequired = insist;  // only for a part whose category the scene gives
       PartSelectionOptions so;
       if (synthesis.shortlist > 0 || synthesis.categories > 0) so.k = synthesis.voteK;
       if (given) {
@@ -89,7 +93,6 @@ class SelectStage : public Stage {
         so.category = *given;
         synthesis.shortlist += std::max(0, synthesis.categories - 1);
         synthesis.categories = std::min(synthesis.categories, 1);
-        synthesis.textureRequired = true;
       }
       const bool aligned = cv::countNonZero(fit) > 0;
       const GraphChoice c =

@@ -202,11 +202,12 @@ TEST_F(SampleRun, beats_the_pixel_median_baseline_by_20_percent_masked_rmse) {
   EXPECT_LT(ours, 0.8 * baseline);
 }
 
-TEST_F(SampleRun, a_given_category_picks_one_of_its_graphs) {
+TEST_F(SampleRun, a_given_category_keeps_the_others_out_and_can_insist_on_a_texture) {
   // (before the override test below, which rewrites the first run's folder)
-  // the rug (truth carpet_patterned_rug) told to be carpet: one of the carpet graphs, whatever
-  // the vote and the homogeneous material say; the parts not told anything keep their choice.
-  // From a copy of the first run's cache: only the rug's selection and what follows recompute.
+  // the rug (truth carpet_patterned_rug; the vote alone names other categories) told to be
+  // carpet: only carpet graphs are finalists, weighed against the homogeneous material as any
+  // part's are; the parts not told anything keep their choice. From a copy of the first run's
+  // cache: only the rug's selection and what follows recompute.
   const fs::path out = dir_->path() / "rug-carpet";
   fs::create_directories(out);
   fs::copy(dir_->path() / "twin/.cache", out / ".cache", fs::copy_options::recursive);
@@ -217,13 +218,22 @@ TEST_F(SampleRun, a_given_category_picks_one_of_its_graphs) {
   EXPECT_EQ(r.stage("select")->computed, 1);
   const io::MaterialFileDesc rug = io::readMaterialJson(out / "materials/rug.json");
   std::printf("rug: %s\n", rug.graph.c_str());
-  EXPECT_EQ(rug.category, "carpet");
+  EXPECT_TRUE(rug.category == "carpet" || rug.category == "homogeneous") << rug.category;
   EXPECT_EQ(readJson(out / "materials/rug.json")["fit"]["category_given"], "carpet");
   for (const char* other : {"floor", "cabinet"})
     EXPECT_EQ(io::readMaterialJson(out / "materials" / (std::string(other) + ".json")).graph,
               io::readMaterialJson(dir_->path() / "twin/materials" / (std::string(other) + ".json"))
                   .graph)
         << other;
+  // insisting (SynthesisOptions::textureRequired): one of the carpet graphs, whatever the
+  // homogeneous material's loss and the texture tests say
+  PipelineOptions insist = sampleOptions(dir_->path() / "rug-carpet.json", out);
+  insist.selection = synthesisPreset("fast");  // sampleOptions' preset
+  insist.selection->textureRequired = true;
+  runPipeline(insist);
+  const io::MaterialFileDesc insisted = io::readMaterialJson(out / "materials/rug.json");
+  std::printf("rug, insisting: %s\n", insisted.graph.c_str());
+  EXPECT_EQ(insisted.category, "carpet");
 }
 
 TEST_F(SampleRun, rerun_redoes_nothing_and_one_override_redoes_only_that_part) {

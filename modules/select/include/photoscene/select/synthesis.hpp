@@ -114,10 +114,13 @@ struct SynthesisOptions {
   /// The pipeline's fit goes on from the winner's short fit (its values and UV) instead of
   /// starting over from the graph's defaults.
   bool warmStartFit = false;
-  /// A textured finalist wins (the user gave the part's category, `parts.<name>.category`): the
-  /// homogeneous finalist, when there is one, is only the reference of the tests; the
-  /// lowest-loss textured finalist that passes them wins, else the one nearest to passing (the
-  /// smallest TextureEvidence::worstRatio), whatever the homogeneous loss.
+  /// A textured finalist wins: the homogeneous finalist, when there is one, is only the
+  /// reference of the tests; the lowest-loss textured finalist that passes them wins, else the one
+  /// nearest to passing (the smallest TextureEvidence::worstRatio), whatever the homogeneous loss.
+  /// The pipeline applies it only to parts whose category the scene gives
+  /// (`parts.<name>.category`), and only when set (off by default: measured on the real-texture
+  /// yardstick and the examples, insisting on the category's texture costs pixel error and,
+  /// on the SUN RGB-D photo, structure; modules/select/README.md, "The user's category").
   bool textureRequired = false;
   /// The spectral shape's weight in the finalists' short fits and scores (PartFitOptions::
   /// bandShape, the texture loss's band energy shares); unset: the caller's fit options' own.
