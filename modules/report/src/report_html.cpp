@@ -376,9 +376,8 @@ void renderCandidates(std::ostream& h, const ReportData& d) {
         h << " A graph must beat the homogeneous loss by the margin and pass the tests.";
       else
         h << " The scene gives the category <b>" << html(p.categoryGiven)
-          << "</b>: only its graphs were finalists, and the lowest-loss one that passes the tests"
-             " wins (else the one nearest to passing); the homogeneous material is only the"
-             " tests' reference.";
+          << "</b>: only its graphs were finalists; one must beat the homogeneous loss by the"
+             " margin and pass the tests (unless the selection options insist on a texture).";
       if (std::isfinite(p.photoCoarseContrast) && p.photoCoarseContrast > 0)
         h << " At " << cells << " a graph is judged by the contrast it adds to the homogeneous"
              " render's (the incident-light grid's noise is in both).";

@@ -93,7 +93,7 @@ TEST(Report_Write, a_part_whose_category_the_scene_gives_says_how_its_graph_was_
   const std::string page = io::readTextFile(out / "report.html");
   const std::string row = page.substr(page.find("id=\"candidates-sofa_fabric\""));
   const std::string cells = row.substr(0, row.find("</tr>"));
-  EXPECT_TRUE(contains(cells, "The scene gives the category <b>fabric</b>"));
+  EXPECT_TRUE(contains(cells, "The scene gives the category <b>fabric</b>: only its graphs"));
   EXPECT_FALSE(contains(cells, "A graph must beat the homogeneous loss"));
   EXPECT_TRUE(contains(page, "{ \"category\": \"wood\" } }"));  // how to give one
 }
