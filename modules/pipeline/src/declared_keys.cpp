@@ -126,7 +126,8 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.warmStartFit)
           .add(s.heldOut)
           .add(s.minHeldOutPixels)
-          .add(s.bandShape.value_or(-1.0f));
+          .add(s.bandShape.value_or(-1.0f))
+          .add(s.textureRequired);
     } else {
       h.add(0);
     }

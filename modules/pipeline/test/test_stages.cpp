@@ -301,6 +301,40 @@ TEST_F(Stages_Keys, each_option_changes_exactly_the_keys_downstream_of_it) {
   EXPECT_EQ(runner_->keys(*ctx_), result_);
 }
 
+TEST_F(Stages_Keys, each_selection_setting_changes_the_keys_of_the_stages_that_read_it) {
+  // the "selection" option is one struct: a field the key leaves out reuses a stale selection
+  // (textureRequired was left out once). Each edit against SynthesisOptions{} itself.
+  const std::vector<std::pair<const char*, std::function<void(SynthesisOptions&)>>> edits = {
+      {"shortlist", [](SynthesisOptions& s) { s.shortlist += 1; }},
+      {"categories", [](SynthesisOptions& s) { s.categories += 1; }},
+      {"steps", [](SynthesisOptions& s) { s.steps += 1; }},
+      {"voteK", [](SynthesisOptions& s) { s.voteK += 1; }},
+      {"homogeneous", [](SynthesisOptions& s) { s.homogeneous = !s.homogeneous; }},
+      {"textureMargin", [](SynthesisOptions& s) { s.textureMargin += 0.01; }},
+      {"maxPixelErrorRatio", [](SynthesisOptions& s) { s.maxPixelErrorRatio += 0.1; }},
+      {"maxContrastRatio", [](SynthesisOptions& s) { s.maxContrastRatio += 0.1; }},
+      {"coarseContrastScale", [](SynthesisOptions& s) { s.coarseContrastScale += 1; }},
+      {"maxChromaRatio", [](SynthesisOptions& s) { s.maxChromaRatio += 0.1; }},
+      {"maxChromaOutside", [](SynthesisOptions& s) { s.maxChromaOutside += 0.01; }},
+      {"startFromNearestDraw", [](SynthesisOptions& s) { s.startFromNearestDraw = !s.startFromNearestDraw; }},
+      {"warmStartFit", [](SynthesisOptions& s) { s.warmStartFit = !s.warmStartFit; }},
+      {"heldOut", [](SynthesisOptions& s) { s.heldOut = !s.heldOut; }},
+      {"minHeldOutPixels", [](SynthesisOptions& s) { s.minHeldOutPixels += 1; }},
+      {"bandShape", [](SynthesisOptions& s) { s.bandShape = 2.0f; }},
+      {"textureRequired", [](SynthesisOptions& s) { s.textureRequired = !s.textureRequired; }}};
+  inputs().options.selection = SynthesisOptions{};
+  const StageKeys base = runner_->keys(*ctx_);
+  for (const auto& [name, edit] : edits) {
+    SynthesisOptions s;
+    edit(s);
+    inputs().options.selection = s;
+    const StageKeys now = runner_->keys(*ctx_);
+    for (const char* stage : {"select", "fit"}) EXPECT_NE(now.at(stage), base.at(stage)) << name;
+  }
+  inputs().options.selection.reset();
+  EXPECT_EQ(runner_->keys(*ctx_), result_);
+}
+
 TEST_F(Stages_Keys, an_output_file_changes_the_keys_of_the_stages_that_read_it) {
   // report reads metrics.json, which `photoscene eval` may have written again
   io::writeJsonFile(options_.out / "metrics.json", nlohmann::json{{"a", 2}});
