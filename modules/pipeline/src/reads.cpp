@@ -129,6 +129,10 @@ const std::optional<std::string>& Reads::partCategory(int part) const {
   return d ? d->category : none;
 }
 
+bool Reads::categoryInsisted(int part) const {
+  return partCategory(part).has_value() && synthesisOptions().textureRequired;
+}
+
 const std::optional<io::HomogeneousDesc>& Reads::partFixed(int part) const {
   static const std::optional<io::HomogeneousDesc> none;
   need("parts.{}.fixed", -1, part);

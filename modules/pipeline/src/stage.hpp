@@ -91,6 +91,9 @@ class Reads {
   const std::map<int, int>& segmentParts(int view) const;               ///< `views[].segment_parts`
   const std::optional<std::string>& partGraph(int part) const;          ///< `parts.{}.graph`
   const std::optional<std::string>& partCategory(int part) const;       ///< `parts.{}.category`
+  /// The part's category is given and the selection options insist on a texture of it
+  /// (SynthesisOptions::textureRequired): `parts.{}.category`, preset, selection
+  bool categoryInsisted(int part) const;
   const std::optional<io::HomogeneousDesc>& partFixed(int part) const;  ///< `parts.{}.fixed`
   bool partSkip(int part) const;                                        ///< `parts.{}.skip`
   uint64_t seed() const;                                                ///< `options.seed`

@@ -138,9 +138,7 @@ class FitStage : public Stage {
     bool homogeneous = p.mode == PartMode::Homogeneous || geo.size() < kMinFitPixels;
     if (!homogeneous &&
         !fitTexture(in, p, geo, photo, mask,
-                    in.partGraph(u).has_value() ||
-                        (in.partCategory(u).has_value() && in.synthesisOptions().textureRequired),
-                    &homogeneous))
+                    in.partGraph(u).has_value() || in.categoryInsisted(u), &homogeneous))
       return false;
     if (homogeneous) {
       const HomogeneousFit f =

@@ -66,7 +66,7 @@ class SelectStage : public Stage {
     // textureRequired the user insists: one of the category's graphs wins whatever the
     // homogeneous loss, and the small-part rule does not apply.
     const std::optional<std::string>& given = in.partCategory(u);
-    const bool insist = given && in.synthesisOptions().textureRequired;
+    const bool insist = in.categoryInsisted(u);
     if (const auto& forced = in.partGraph(u)) {
       p.graph = *forced;
     } else if (given && *given == "homogeneous") {

@@ -155,7 +155,7 @@ double TextureEvidence::worstRatio(const SynthesisOptions& options, bool* pixels
 }
 
 void TextureEvidence::judge(const SynthesisOptions& options) {
-  worstRatio(options, &pixelsOk, &contrastOk, &chromaOk);
+  testRatio = worstRatio(options, &pixelsOk, &contrastOk, &chromaOk);
 }
 
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
@@ -374,7 +374,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     const TextureEvidence e = evidence(f.pixelRmse, homogeneous->pixelRmse, true, render, flat,
                                        photoContrast, finalistTests);
     f.qualifies = e.ok();
-    f.testRatio = e.worstRatio(finalistTests);
+    f.testRatio = e.testRatio;
   }
   const auto textured =
       std::find_if(out.finalists.begin(), out.finalists.end(), [](const SynthesisFinalist& f) {

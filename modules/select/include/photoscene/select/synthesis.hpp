@@ -193,6 +193,7 @@ struct TextureEvidence {
   /// shares of the render's and the flat render's pixels in colours the photo does not show
   double chromaOutside = 0, flatChromaOutside = 0;
   bool pixelsOk = true, contrastOk = true, chromaOk = true;
+  double testRatio = 0;  ///< worstRatio, as judge found it
   bool ok() const { return pixelsOk && contrastOk && chromaOk; }
   /// Each test's quantity over its bar (the pixel error over maxPixelErrorRatio x the flat
   /// render's, the contrast over maxContrastRatio x the photo's, ...; a test not made counts 0),
@@ -200,8 +201,8 @@ struct TextureEvidence {
   /// flags say which pass.
   double worstRatio(const SynthesisOptions& options, bool* pixelsPass = nullptr,
                     bool* contrastPass = nullptr, bool* chromaPass = nullptr) const;
-  /// Sets pixelsOk, contrastOk and chromaOk from the numbers above (chooseBySynthesis on its
-  /// finalists, textureEvidence on a full fit).
+  /// Sets pixelsOk, contrastOk, chromaOk and testRatio from the numbers above (chooseBySynthesis
+  /// on its finalists, textureEvidence on a full fit).
   void judge(const SynthesisOptions& options);
 };
 TextureEvidence textureEvidence(const cv::Mat& textured, const cv::Mat& flat, const cv::Mat& photo,
