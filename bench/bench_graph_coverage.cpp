@@ -93,6 +93,20 @@ void windowAdjoint(const cv::Mat& d, int ox, int oy, cv::Mat& acc) {
       acc.at<cv::Vec3f>((y + oy) % n, (x + ox) % n) += d.at<cv::Vec3f>(y, x);
 }
 
+// The box average of `img` over f x f blocks (f a power of two dividing its size), and its adjoint.
+cv::Mat boxDown(const cv::Mat& img, int f) {
+  if (f == 1) return img;
+  cv::Mat out;
+  cv::resize(img, out, img.size() / f, 0, 0, cv::INTER_AREA);  // an exact block mean at integer factors
+  return out;
+}
+cv::Mat boxDownAdjoint(const cv::Mat& d, int f) {
+  if (f == 1) return d;
+  cv::Mat out;
+  cv::resize(d, out, d.size() * f, 0, 0, cv::INTER_NEAREST);
+  return out / double(f * f);
+}
+
 struct Texture {
   cv::Mat render;  // 4 VIEW x 4 VIEW, one tile
 };
@@ -119,6 +133,7 @@ struct Fit {
   double loss = 1e30, dGraph = 1e30;
   ps::eval::TextureDistance blocks;  // dGraph = blocks.total
   cv::Mat view;
+  std::string values;  // the fitted parameters, "name=v" or "name=r,g,b", space-separated
 };
 
 // The mean of textureDistance(t, img) over the texture views t, block by block.
@@ -139,7 +154,8 @@ ps::eval::TextureDistance meanDistance(const std::vector<ps::eval::TextureHistog
 Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
              const ps::TextureLossTarget& target,
              const std::vector<ps::eval::TextureHistograms>& texHist, const cv::Mat& mask,
-             const cv::Scalar& targetMean, int view, int probe, int iterations, ps::Rng& rng) {
+             const cv::Scalar& targetMean, int view, int probe, int iterations, float palette,
+             const std::vector<int>& scales, int minMap, ps::Rng& rng) {
   ps::MaterialGraph g = lib.create(name);
   const auto mask01 = g.differentiableMask();
   std::vector<float> range(mask01.size(), 1.f);
@@ -154,33 +170,46 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
     double best = 1e30;
     std::vector<float> bestX;
   };
+  // the graph's maps for scale k: N = 4 VIEW / k px per tile, evaluated at max(N, minMap) and
+  // box-averaged down to N (a camera's pixel integrates the finer pattern; at N = 32 a weave
+  // evaluated at 32 px aliases), so f = the evaluation size / N
+  auto mapSize = [&](int k) { return std::max(4 * view / k, minMap); };
+  auto flatAt = [&](int k, ps::MaterialMaps* m) {
+    *m = g.evaluate(mapSize(k), maps);
+    return boxDown(flatRender(m->albedo, m->normal), mapSize(k) / (4 * view / k));
+  };
   auto step = [&](State& s, int k, bool update) {
-    const int n = 4 * view / k;
+    const int n = 4 * view / k, f = mapSize(k) / n;
     g.setValues(s.x);
-    const ps::MaterialMaps m = g.evaluate(n, maps);
-    const cv::Mat render = flatRender(m.albedo, m.normal);
+    ps::MaterialMaps m;
+    const cv::Mat render = flatAt(k, &m);
     const cv::Mat v = window(render, ox % n, oy % n, view);
     ps::TextureLossParams tp;
     tp.target = &target;
     tp.render = v;
-    const double L = ps::textureLossForward(tp);
+    std::vector<float> gPalette;
+    const double L = ps::textureLossForward(tp) +
+                     (palette > 0 ? palette * ps::paletteLoss(g, s.x, update ? &gPalette : nullptr) : 0.0);
     if (L < s.best) s.best = L, s.bestX = s.x;
     if (!update) return L;
     cv::Mat dv;
     ps::textureLossBackward(tp, 1.f, dv);
-    cv::Mat dr(n, n, CV_32FC3, cv::Scalar::all(0));
-    windowAdjoint(dv, ox % n, oy % n, dr);
+    cv::Mat drn(n, n, CV_32FC3, cv::Scalar::all(0));
+    windowAdjoint(dv, ox % n, oy % n, drn);
+    const cv::Mat dr = boxDownAdjoint(drn, f);
+    const int M = n * f;
     ps::MaterialMaps d;
-    d.albedo = cv::Mat(n, n, CV_32FC3);
-    d.normal = cv::Mat(n, n, CV_32FC3, cv::Scalar::all(0));
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
+    d.albedo = cv::Mat(M, M, CV_32FC3);
+    d.normal = cv::Mat(M, M, CV_32FC3, cv::Scalar::all(0));
+    for (int y = 0; y < M; ++y)
+      for (int x = 0; x < M; ++x) {
         const cv::Vec3f gr = dr.at<cv::Vec3f>(y, x), a = m.albedo.at<cv::Vec3f>(y, x);
         const float nz = m.normal.at<cv::Vec3f>(y, x)[2];
         d.albedo.at<cv::Vec3f>(y, x) = gr * (nz > 0 ? nz : 0.f);
         d.normal.at<cv::Vec3f>(y, x)[2] = nz > 0 ? gr.dot(a) : 0.f;
       }
-    const std::vector<float> grad = g.backward(d);
+    std::vector<float> grad = g.backward(d);
+    for (size_t i = 0; i < gPalette.size(); ++i) grad[i] += palette * gPalette[i];
     ++s.it;
     const double lr = 0.03, b1 = 0.9, b2 = 0.999;
     for (size_t i = 0; i < s.x.size(); ++i) {
@@ -199,19 +228,19 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
   Fit best;
   best.graph = name;
   State keep;
-  for (const int k : {2, 4, 8, 16}) {
+  for (const int k : scales) {
     State s;
     s.x = g.defaultValues();
     s.m1.assign(s.x.size(), 0.f), s.m2.assign(s.x.size(), 0.f);
     if (aoff >= 0) {  // start with the mean colour matched (albedo_offset, closed form)
-      const int n = 4 * view / k;
       g.setValues(s.x);
-      const ps::MaterialMaps m = g.evaluate(n, maps);
-      const cv::Scalar gm = cv::mean(flatRender(m.albedo, m.normal));
+      ps::MaterialMaps m;
+      const cv::Scalar gm = cv::mean(flatAt(k, &m));
       double nz = 0;
-      for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) nz += std::max(0.f, m.normal.at<cv::Vec3f>(y, x)[2]);
-      nz = std::max(0.1, nz / double(n * n));
+      const int M = m.normal.rows;
+      for (int y = 0; y < M; ++y)
+        for (int x = 0; x < M; ++x) nz += std::max(0.f, m.normal.at<cv::Vec3f>(y, x)[2]);
+      nz = std::max(0.1, nz / double(M * M));
       for (int c = 0; c < 3; ++c)
         s.x[size_t(aoff + c)] = float(std::clamp((targetMean[c] - gm[c]) / nz, -0.5, 0.5));
       s.x = g.projectValues(s.x);
@@ -226,10 +255,15 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
   // the fitted state's view at a fresh offset, and its distance to the texture views
   const int n = 4 * view / best.k;
   g.setValues(keep.bestX);
-  const ps::MaterialMaps m = g.evaluate(n, maps);
-  const cv::Mat render = flatRender(m.albedo, m.normal);
+  ps::MaterialMaps m;
+  const cv::Mat render = flatAt(best.k, &m);
   const int gx = int(rng.uniform() * n), gy = int(rng.uniform() * n);
   best.view = window(render, gx, gy, view);
+  for (const auto& p : g.parameters()) {
+    best.values += (best.values.empty() ? "" : " ") + p.name + "=";
+    for (int q = 0; q < p.dim; ++q)
+      best.values += cv::format(q ? ",%.3g" : "%.3g", keep.bestX[size_t(p.offset + q)]);
+  }
   best.blocks = meanDistance(texHist, best.view, mask);
   best.dGraph = best.blocks.total;
   return best;
@@ -243,7 +277,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> materialNames;
   int iterations = 24, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
-  float sliced = 4.0f, psWeight = 0.0f, shape = 0.3f;
+  bool printValues = false;
+  std::vector<int> scales = {2, 4, 8, 16};
+  int minMap = 0;
+  float sliced = 4.0f, psWeight = 0.0f, shape = 0.3f, palette = 0.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -257,10 +294,21 @@ int main(int argc, char** argv) {
   app.add_option("--ps", psWeight, "weight of each joint-statistics group of the loss (ps*)");
   app.add_option("--shape", shape, "weight of the loss's spectral shape (bandShape)");
   app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
+  app.add_option("--scales", scales, "k per scale: the view covers k / 4 graph tiles (powers of two <= 4 VIEW)")
+      ->delimiter(',');
+  app.add_option("--min-map", minMap,
+                 "graph maps evaluated at least this size and box-averaged to the scale's (0: none)");
+  app.add_flag("--print-values", printValues, "print the best graph's fitted parameters");
+  app.add_option("--palette", palette, "weight of the palette prior (graph/palette_prior.hpp)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (view < 64 || (view & (view - 1)))
       throw ps::InputError("--view", "", "expected a power of two >= 64");
+    auto pow2 = [](int x) { return x > 0 && (x & (x - 1)) == 0; };
+    for (const int k : scales)
+      if (!pow2(k) || k > 4 * view) throw ps::InputError("--scales", "", "expected powers of two <= 4 VIEW");
+    if (scales.empty()) throw ps::InputError("--scales", "", "expected at least one scale");
+    if (minMap != 0 && !pow2(minMap)) throw ps::InputError("--min-map", "", "expected 0 or a power of two");
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
     std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
     if (!materialNames.empty()) {
@@ -310,7 +358,7 @@ int main(int argc, char** argv) {
       const ps::TextureLossTarget target(r.texView, mask, lossOptions);
       for (const auto& name : lib.namesInCategory(r.mat.category)) {
         Fit f = fitGraph(lib, name, target, cmp, mask, cv::mean(r.texView), view, probe, iterations,
-                         rng);
+                         palette, scales, minMap, rng);
         ++r.graphs;
         if (f.dGraph < r.best.dGraph) r.best = f;
       }
@@ -320,12 +368,13 @@ int main(int argc, char** argv) {
           stderr, "%-40s %-10s %-28s k=%d self %.4f graph %.4f ratio %.2f (%d graphs, %.0f s)\n",
           r.mat.name.c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k, r.dSelf,
           r.best.dGraph, r.best.dGraph / std::max(1e-9, r.dSelf), r.graphs, r.seconds);
+      if (printValues) std::fprintf(stderr, "  %s\n", r.best.values.c_str());
     });
     int covered = 0;
     std::string missing;
     std::printf(
-        "| material | category | best graph | graph tiles in view | d_self | d_graph | ratio "
-        "|\n|---|---|---|---|---|---|---|\n");
+        "| material | half | category | best graph | graph tiles in view | d_self | d_graph | ratio "
+        "|\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& r : rows) {
       const double ratio = r.best.dGraph / std::max(1e-9, r.dSelf);
       if (ratio <= 1.5)
@@ -333,12 +382,26 @@ int main(int argc, char** argv) {
       else
         missing += "- " + r.mat.name + " (" + r.mat.category + "): best " + r.best.graph +
                    ", ratio " + cv::format("%.2f", ratio) + "\n";
-      std::printf("| %s | %s | %s | %.1f | %.4f | %.4f | %.2f |\n", r.mat.name.c_str(),
-                  r.mat.category.c_str(), r.best.graph.c_str(), r.best.k / 4.0, r.dSelf,
+      std::printf("| %s | %s | %s | %s | %.1f | %.4f | %.4f | %.2f |\n", r.mat.name.c_str(),
+                  ps::bench::splitOf(r.mat.name).c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k / 4.0, r.dSelf,
                   r.best.dGraph, ratio);
     }
     std::printf("\ncovered (ratio <= 1.5): %d / %zu = %.0f %%\n", covered, rows.size(),
                 rows.empty() ? 0.0 : 100.0 * covered / double(rows.size()));
+    // by the real-texture yardstick's halves (bench/real_materials.hpp: splitOf), so that a
+    // setting chosen here can be chosen on the tune half alone
+    for (const char* half : {"tune", "check"}) {
+      std::vector<double> ratios;
+      for (const auto& r : rows)
+        if (ps::bench::splitOf(r.mat.name) == half) ratios.push_back(r.best.dGraph / std::max(1e-9, r.dSelf));
+      if (ratios.empty()) continue;
+      std::sort(ratios.begin(), ratios.end());
+      auto within = [&](double b) { return int(std::count_if(ratios.begin(), ratios.end(), [&](double x) { return x <= b; })); };
+      const size_t m = ratios.size();
+      std::printf("%s half: %d / %zu within 1.5x, %d within 2x, %d within 3x, median ratio %.2f\n", half,
+                  within(1.5), m, within(2.0), within(3.0),
+                  m % 2 ? ratios[m / 2] : 0.5 * (ratios[m / 2 - 1] + ratios[m / 2]));
+    }
     std::printf("\nwithout a graph within 1.5x:\n%s",
                 missing.empty() ? "(none)\n" : missing.c_str());
     if (!csvPath.empty()) {

@@ -1,7 +1,9 @@
 // ps::MaterialGraph: the public face of a parsed graph and its float evaluator.
 #include "engine.hpp"
 #include "graph_access.hpp"
+#include "oklab.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -11,6 +13,8 @@ namespace ps {
 
 using graphimpl::Evaluator;
 using graphimpl::GraphSpec;
+using graphimpl::linearToOklab;
+using graphimpl::oklabToLinear;
 using graphimpl::Plane;
 
 class GraphEngine {
@@ -81,6 +85,26 @@ int MaterialGraph::findParameter(const std::string& name) const {
   return -1;
 }
 
+std::vector<std::vector<int>> MaterialGraph::colorRamps() const {
+  const GraphSpec& spec = *engine_->spec;
+  std::vector<std::pair<int, std::vector<int>>> ramps;  // (gradient_map node, its parameters)
+  for (size_t i = 0; i < spec.params.size(); ++i) {
+    const GraphParameter& p = spec.params[i];
+    if (p.kind != ParameterKind::Continuous || p.dim != 3) continue;
+    for (const graphimpl::Binding& b : spec.bindings[i]) {
+      if (spec.nodes[size_t(b.node)].type->desc.name != "gradient_map") continue;
+      auto it = std::find_if(ramps.begin(), ramps.end(), [&](const auto& r) { return r.first == b.node; });
+      if (it == ramps.end()) ramps.push_back({b.node, {}}), it = ramps.end() - 1;
+      if (std::find(it->second.begin(), it->second.end(), int(i)) == it->second.end())
+        it->second.push_back(int(i));
+    }
+  }
+  std::vector<std::vector<int>> out;
+  for (auto& r : ramps)
+    if (r.second.size() >= 2) out.push_back(std::move(r.second));
+  return out;
+}
+
 std::vector<float> MaterialGraph::defaultValues() const {
   std::vector<float> v;
   for (const auto& p : parameters())
@@ -132,28 +156,6 @@ std::vector<uint8_t> MaterialGraph::differentiableMask() const {
   return m;
 }
 
-namespace {
-// Oklab (Ottosson 2020) from / to linear sRGB: a perceptual space where lightness, chroma and hue
-// separate, so colour draws can stay near the default's hue.
-void linearToOklab(const float* c, float* lab) {
-  const float l = 0.4122214708f * c[0] + 0.5363325363f * c[1] + 0.0514459929f * c[2];
-  const float m = 0.2119034982f * c[0] + 0.6806995451f * c[1] + 0.1073969566f * c[2];
-  const float s = 0.0883024619f * c[0] + 0.2817188376f * c[1] + 0.6299787005f * c[2];
-  const float l_ = std::cbrt(l), m_ = std::cbrt(m), s_ = std::cbrt(s);
-  lab[0] = 0.2104542553f * l_ + 0.7936177850f * m_ - 0.0040720468f * s_;
-  lab[1] = 1.9779984951f * l_ - 2.4285922050f * m_ + 0.4505937099f * s_;
-  lab[2] = 0.0259040371f * l_ + 0.7827717662f * m_ - 0.8086757660f * s_;
-}
-void oklabToLinear(const float* lab, float* c) {
-  const float l_ = lab[0] + 0.3963377774f * lab[1] + 0.2158037573f * lab[2];
-  const float m_ = lab[0] - 0.1055613458f * lab[1] - 0.0638541728f * lab[2];
-  const float s_ = lab[0] - 0.0894841775f * lab[1] - 1.2914855480f * lab[2];
-  const float l = l_ * l_ * l_, m = m_ * m_ * m_, s = s_ * s_ * s_;
-  c[0] = 4.0767416621f * l - 3.3077115913f * m + 0.2309699292f * s;
-  c[1] = -1.2684380046f * l + 2.6097574011f * m - 0.3413193965f * s;
-  c[2] = -0.0041960863f * l - 0.7034186830f * m + 1.7076147713f * s;
-}
-}  // namespace
 
 std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) const {
   Rng rng(seed, 0x67726170ULL);

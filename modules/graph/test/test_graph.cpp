@@ -447,3 +447,121 @@ TEST(Graph_Library, self_fit_with_adam_reduces_error_for_most_graphs) {
               failed.c_str());
   EXPECT_GE(pass, int(0.75 * total)) << failed;
 }
+
+// ------------------------------------------------------------------ palette prior
+namespace {
+// A colour turned by `turn` radians in Oklab's chroma plane, lightness and chroma kept.
+std::vector<float> turnHue(const float* rgb, double turn) {
+  // Oklab by its published matrices, independent of the module's copy
+  const double M1[3][3] = {{0.4122214708, 0.5363325363, 0.0514459929},
+                           {0.2119034982, 0.6806995451, 0.1073969566},
+                           {0.0883024619, 0.2817188376, 0.6299787005}};
+  const double M2[3][3] = {{0.2104542553, 0.7936177850, -0.0040720468},
+                           {1.9779984951, -2.4285922050, 0.4505937099},
+                           {0.0259040371, 0.7827717662, -0.8086757660}};
+  double r[3], lab[3];
+  for (int i = 0; i < 3; ++i) r[i] = std::cbrt(M1[i][0] * rgb[0] + M1[i][1] * rgb[1] + M1[i][2] * rgb[2]);
+  for (int k = 0; k < 3; ++k) lab[k] = M2[k][0] * r[0] + M2[k][1] * r[1] + M2[k][2] * r[2];
+  const double a = lab[1] * std::cos(turn) - lab[2] * std::sin(turn);
+  const double b = lab[1] * std::sin(turn) + lab[2] * std::cos(turn);
+  const cv::Matx33d m2(M2[0][0], M2[0][1], M2[0][2], M2[1][0], M2[1][1], M2[1][2], M2[2][0], M2[2][1], M2[2][2]);
+  const cv::Matx33d m1(M1[0][0], M1[0][1], M1[0][2], M1[1][0], M1[1][1], M1[1][2], M1[2][0], M1[2][1], M1[2][2]);
+  cv::Vec3d q = m2.inv() * cv::Vec3d(lab[0], a, b);
+  for (int i = 0; i < 3; ++i) q[i] = q[i] * q[i] * q[i];
+  const cv::Vec3d c = m1.inv() * q;
+  return {float(c[0]), float(c[1]), float(c[2])};
+}
+}  // namespace
+
+TEST(Graph_Palette, ramps_are_found_and_the_prior_is_zero_at_the_defaults) {
+  const ps::MaterialGraph wood = lib().create("wood_planks");
+  const auto ramps = wood.colorRamps();
+  ASSERT_EQ(ramps.size(), 1u);
+  ASSERT_EQ(ramps[0].size(), 3u);  // wood_dark, wood_mid, wood_light
+  for (int i : ramps[0]) EXPECT_EQ(wood.parameters()[size_t(i)].dim, 3);
+  EXPECT_NEAR(ps::paletteLoss(wood, wood.defaultValues()), 0.0, 1e-12);
+  // a graph whose colours are separate uniform colours has no ramp, and no prior
+  const ps::MaterialGraph paint = lib().create("paint_matte_wall");
+  EXPECT_TRUE(paint.colorRamps().empty());
+  EXPECT_EQ(ps::paletteLoss(paint, paint.randomValues(3)), 0.0);
+  int withRamps = 0;
+  for (const auto& name : lib().names()) withRamps += lib().get(name).colorRamps().empty() ? 0 : 1;
+  EXPECT_GE(withRamps, 20);  // the colors3 ramps of make_library.py
+}
+
+TEST(Graph_Palette, the_ramp_may_turn_as_a_whole_but_not_apart) {
+  ps::MaterialGraph g = lib().create("wood_planks");
+  const auto ramp = g.colorRamps().at(0);
+  const std::vector<float> v0 = g.defaultValues();
+  // all three colours turned together (brown to red, to olive): nearly free. Not exactly 0: the
+  // chroma differences between the colours turn with them
+  for (double turn : {-0.5, 0.3, 0.8}) {
+    std::vector<float> v = v0;
+    for (int i : ramp) {
+      const int off = g.parameters()[size_t(i)].offset;
+      const auto c = turnHue(&v0[size_t(off)], turn);
+      std::copy(c.begin(), c.end(), v.begin() + off);
+    }
+    // the same turn on the dark colour alone: the drift the prior is for
+    std::vector<float> apart = v0;
+    const int off = g.parameters()[size_t(ramp[0])].offset;
+    const auto c = turnHue(&v0[size_t(off)], turn);
+    std::copy(c.begin(), c.end(), apart.begin() + off);
+    const double together = ps::paletteLoss(g, v), alone = ps::paletteLoss(g, apart);
+    EXPECT_GT(alone, 4 * together) << "turn " << turn;
+    EXPECT_GT(alone, 1e-4) << "turn " << turn;
+  }
+  // a common tint (every colour's chroma shifted alike, here toward grey by the same amount) is free
+  // in chroma terms; lightness changes are free entirely
+  std::vector<float> brighter = v0;
+  for (int i : ramp)
+    for (int k = 0; k < 3; ++k) {
+      const int o = g.parameters()[size_t(i)].offset + k;
+      brighter[size_t(o)] = std::min(1.f, v0[size_t(o)] * 1.5f);
+    }
+  EXPECT_LT(ps::paletteLoss(g, brighter), 2e-4);
+}
+
+TEST(Graph_Palette, gradient_matches_finite_differences_and_stays_finite_at_black) {
+  // (the colours and the albedo offset, at random draws whose ramps are pulled apart)
+  for (const char* name : {"wood_planks", "brick_red", "stone_slate", "fabric_velvet"}) {
+    ps::MaterialGraph g = lib().create(name);
+    const auto ramps = g.colorRamps();
+    ASSERT_FALSE(ramps.empty()) << name;
+    for (uint64_t seed : {1u, 2u, 3u}) {
+      std::vector<float> v = g.randomValues(seed, 1.0f);
+      // push the ramp colours apart, so the loss is not near its minimum
+      ps::Rng rng(seed);
+      for (int i : ramps[0])
+        for (int k = 0; k < 3; ++k) {
+          float& x = v[size_t(g.parameters()[size_t(i)].offset + k)];
+          x = std::clamp(x + 0.3f * (rng.uniform() - 0.5f), 0.05f, 0.95f);
+        }
+      std::vector<float> grad;
+      const double l = ps::paletteLoss(g, v, &grad);
+      ASSERT_GT(l, 0) << name;
+      std::vector<int> checked = ramps[0];
+      checked.push_back(g.findParameter("albedo_offset"));  // the colours are seen through it
+      for (int i : checked)
+        for (int k = 0; k < 3; ++k) {
+          const size_t o = size_t(g.parameters()[size_t(i)].offset + k);
+          const float h = 1e-3f;
+          std::vector<float> a = v, b = v;
+          a[o] += h, b[o] -= h;
+          const double fd = (ps::paletteLoss(g, a) - ps::paletteLoss(g, b)) / (2 * h);
+          EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4) << name << " value " << o;
+        }
+      for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
+    }
+    // black and white ramp colours: finite loss and gradient
+    std::vector<float> v = g.defaultValues();
+    const auto& ramp = ramps[0];
+    for (int k = 0; k < 3; ++k) {
+      v[size_t(g.parameters()[size_t(ramp[0])].offset + k)] = 0.f;
+      v[size_t(g.parameters()[size_t(ramp.back())].offset + k)] = 1.f;
+    }
+    std::vector<float> grad;
+    EXPECT_TRUE(std::isfinite(ps::paletteLoss(g, v, &grad))) << name;
+    for (float x : grad) EXPECT_TRUE(std::isfinite(x)) << name;
+  }
+}

@@ -13,6 +13,7 @@
 #include "photoscene/core/error.hpp"
 #include "photoscene/core/timer.hpp"
 #include "photoscene/features/texture_placement.hpp"
+#include "photoscene/graph/palette_prior.hpp"
 #include "photoscene/core/color.hpp"
 
 namespace ps {
@@ -119,6 +120,7 @@ bool PartFitOptions::IsValid(std::string* error) const {
     return fail("roughnessPriorWeight, highlightWeight and albedoCeilingWeight must be >= 0");
   if (!(albedoCeilingKnee > 0.5f && albedoCeilingKnee < 1.0f))
     return fail("albedoCeilingKnee must be in (0.5, 1)");
+  if (!(paletteWeight >= 0)) return fail("paletteWeight must be >= 0");
   if (!(highlight.glossyRoughness > 0.01f && highlight.glossyRoughness <= 1.0f) ||
       !(highlight.minRatio > 0) || highlight.minPixels < 1 ||
       !(highlight.maxFraction > highlight.minFraction))
@@ -344,6 +346,16 @@ class PartFitter {
     return e;
   }
 
+  // L_palette at `values` (graph/palette_prior.hpp) added to e's loss as a regulariser (not to
+  // lossData); with `grad`, its weighted gradient with respect to the values.
+  void addPalette(Eval& e, const std::vector<float>& values, std::vector<float>* grad = nullptr) {
+    if (!graph_ || o_.paletteWeight <= 0) return;
+    e.lossPalette = paletteLoss(*graph_, values, grad);
+    e.loss += o_.paletteWeight * e.lossPalette;
+    if (grad)
+      for (float& g : *grad) g *= o_.paletteWeight;
+  }
+
   MaterialMaps maps(const std::vector<float>& values) {
     graph_->setValues(values);
     return graph_->evaluate(o_.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
@@ -521,7 +533,9 @@ class PartFitter {
       }
       const MaterialMaps m = maps(s.values);
       RenderLayerGradients g;
-      const Eval e = evaluate(level, m, s.uv, s.roughness, o_.specularSub, &g);
+      Eval e = evaluate(level, m, s.uv, s.roughness, o_.specularSub, &g);
+      std::vector<float> gPalette;
+      addPalette(e, s.values, &gPalette);
       stateLoss_ = e.loss;
       if (record) res.history.push_back(e.loss);
       if (e.loss < bestLoss) bestLoss = e.loss, best = s;
@@ -534,7 +548,7 @@ class PartFitter {
       dm.normal = g.normal;
       const std::vector<float> dv = graph_->backward(dm);
       std::vector<float> grad(N, 0.0f);
-      for (int i = 0; i < n; ++i) grad[i] = dv[i] * (hi_[i] - lo_[i]);
+      for (int i = 0; i < n; ++i) grad[i] = (dv[i] + (gPalette.empty() ? 0.0f : gPalette[i])) * (hi_[i] - lo_[i]);
       grad[n] = g.roughnessValue;
       grad[n + 1] = g.rotation, grad[n + 2] = g.logScale, grad[n + 3] = g.offset.x(), grad[n + 4] = g.offset.y();
       adam.step(x, grad);
@@ -651,7 +665,8 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
   if (options.roughnessPriorWeight > 0) res.roughnessPrior = f.prior();
   res.highlightPixels = f.highlightPixels();
   {
-    const PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
+    PartFitter::Eval e0 = f.evaluate(0, f.maps(start.values), start.uv, start.roughness, options.specularSub, nullptr);
+    f.addPalette(e0, start.values);
     res.initialLoss = e0.loss;
     f.stateLoss_ = e0.loss;
     res.initialTextureLoss = e0.lossTexture;
@@ -697,7 +712,8 @@ PartFitResult fitPart(const MaterialGraph& graph, const PartGeometry& geometry, 
       f.searchRoughness(s, 0, options.roughnessCandidates, res);
     }
   }
-  const PartFitter::Eval e = f.evaluate(0, f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
+  PartFitter::Eval e = f.evaluate(0, f.maps(s.values), s.uv, s.roughness, options.specularSub, nullptr, &res.render);
+  f.addPalette(e, s.values);
   res.values = s.values;
   res.uv = s.uv;
   res.roughness = s.roughness;
@@ -749,8 +765,9 @@ PartFitResult scoreOnce(const MaterialGraph* graph, const MaterialMaps* maps,
   res.roughness = roughness;
   if (o.roughnessPriorWeight > 0) res.roughnessPrior = f.prior();
   res.highlightPixels = f.highlightPixels();
-  const PartFitter::Eval e = f.evaluate(0, maps ? *maps : f.maps(values), uv, roughness,
-                                        o.specularSub, nullptr, &res.render, matchMeans);
+  PartFitter::Eval e = f.evaluate(0, maps ? *maps : f.maps(values), uv, roughness,
+                                  o.specularSub, nullptr, &res.render, matchMeans);
+  if (graph) f.addPalette(e, values);
   static_cast<PartFitLosses&>(res) = e;
   res.initialLoss = e.loss;
   res.initialTextureLoss = e.lossTexture;

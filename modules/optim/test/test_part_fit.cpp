@@ -464,5 +464,40 @@ TEST(Optim_PartFit, scoring_a_graphs_maps_gives_the_graphs_score) {
   EXPECT_THROW(scoreMaps(bad, "", state.uv, 0.5f, geo, s.photo, target, o), Exception);
 }
 
+// The palette prior in the fit (graph/palette_prior.hpp): a start whose wood ramp was pulled
+// apart (the dark colour turned green, the light one purple) comes back together with the prior
+// and not without it, and the result's loss holds the weighted term, outside lossData.
+TEST(Optim_PartFit, the_palette_prior_pulls_a_torn_ramp_back_together) {
+  const GraphLibrary lib = GraphLibrary::load();
+  MaterialGraph truth = lib.create("wood_planks");
+  truth.setValues(truthValues(truth, 5, 0.3f));
+  Synthetic s = makeSynthetic(truth, UvParams{}, 64, 48, 16, 8, 2);
+  const int part = s.room.floor;
+  const PartGeometry geo = preparePartGeometry(s.view.gbuffer, s.room.camera.position().cast<float>(), s.view.grid,
+                                               s.view.gbuffer.mask[part], part);
+  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[part]);
+  MaterialGraph start = lib.create("wood_planks");
+  start.setParameter("wood_dark", {0.08f, 0.12f, 0.02f});
+  start.setParameter("wood_light", {0.45f, 0.2f, 0.4f});
+  const double torn = paletteLoss(start, start.values());
+  ASSERT_GT(torn, 1e-3);
+  PartFitOptions o = PartFitOptions::preset("fast");
+  o.maxIterations = 30;
+  o.paletteWeight = 0.0f;
+  const PartFitResult without = fitPart(start, geo, s.photo, target, o);
+  o.paletteWeight = 30.0f;
+  const PartFitResult with = fitPart(start, geo, s.photo, target, o);
+  MaterialGraph g = lib.create("wood_planks");
+  const double lWithout = paletteLoss(g, without.values), lWith = paletteLoss(g, with.values);
+  std::printf("palette loss: start %.4f, fitted without the prior %.4f, with %.4f\n", torn, lWithout, lWith);
+  EXPECT_LT(lWith, 0.5 * torn);
+  EXPECT_LT(lWith, 0.5 * lWithout);
+  EXPECT_EQ(without.lossPalette, 0.0);
+  EXPECT_NEAR(with.lossPalette, lWith, 1e-9);
+  // a regulariser: in the loss, not in the data terms (the other regularisers are >= 0)
+  EXPECT_GE(with.loss - with.lossData, o.paletteWeight * with.lossPalette - 1e-9);
+  EXPECT_GT(with.lossPalette, 0.0);
+}
+
 }  // namespace
 }  // namespace ps

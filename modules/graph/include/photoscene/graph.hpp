@@ -4,6 +4,7 @@
 //   graph_library.hpp   ps::GraphLibrary: the folder of JSON graphs, categories, content hash
 //   node_catalog.hpp    the node types graph files may use
 //   gradient_check.hpp  finite-difference gradient checks of graphs and node types
+//   palette_prior.hpp   the fit's prior that keeps a colour ramp's hues together
 //   preview.hpp         lit sphere / plane previews (Lambert + GGX)
 #pragma once
 
@@ -11,4 +12,5 @@
 #include "photoscene/graph/graph_library.hpp"
 #include "photoscene/graph/material_graph.hpp"
 #include "photoscene/graph/node_catalog.hpp"
+#include "photoscene/graph/palette_prior.hpp"
 #include "photoscene/graph/preview.hpp"

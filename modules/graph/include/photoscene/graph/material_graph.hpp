@@ -117,6 +117,9 @@ class MaterialGraph {
   const std::vector<GraphParameter>& parameters() const;
   /// Index into parameters() of the parameter `name`; -1 when absent.
   int findParameter(const std::string& name) const;
+  /// The colour ramps: for each gradient_map node that two or more exposed RGB parameters drive,
+  /// the indices into parameters() of those parameters (the ramp's colours), in parameter order.
+  std::vector<std::vector<int>> colorRamps() const;
   /// Length of the flat value vector.
   int valueCount() const;
   std::vector<float> defaultValues() const;

@@ -12,6 +12,7 @@
 //            low-passed luminances of render and photo over the mask; Eq. 9's pixel term after the
 //            warp: the caller's photo is the aligned one). On in "balanced" (0.1), off elsewhere.
 //   + roughnessPriorWeight * L_prior + highlightWeight * L_hl + albedoCeilingWeight * L_ceil
+//   + paletteWeight * L_palette (graph/palette_prior.hpp: a colour ramp's hues kept together)
 //            (optim/roughness_prior.hpp: the category's log-roughness prior, the highlight
 //            contrast where the incident light predicts one, a soft barrier on albedo near 1;
 //            on in "balanced" and "fast", off in "paper")
@@ -103,6 +104,11 @@ struct PartFitOptions {
   /// pushed down softly, so that a channel does not pin at 1.0.
   float albedoCeilingWeight = 0.0f;
   float albedoCeilingKnee = 0.9f;
+  /// Weight of the palette prior L_palette (graph/palette_prior.hpp; 0 = off): a colour ramp's
+  /// colours keep the chroma differences of the graph's defaults, so the fit can turn a ramp's hue
+  /// as a whole but not spend its colours on the photo's colour moments apart (pink and olive
+  /// bricks, red and brown wood stripes).
+  float paletteWeight = 0.0f;
   /// A line search over the held roughness (this many values log-spaced over its allowed range,
   /// with the state's maps and UV transform, at full resolution) before the fine steps (or after
   /// the steps without a coarse phase); < 2 = none. The Adam steps alone moved the one scalar
@@ -174,8 +180,9 @@ struct PartFitLosses {
   double loss = 0, lossStat = 0, lossTexture = 0;
   double lossPlacement = 0;                                  ///< L_place (0 if off)
   double lossPrior = 0, lossHighlight = 0, lossCeiling = 0;  ///< L_prior, L_hl, L_ceil (0 if off)
+  double lossPalette = 0;                                    ///< L_palette (0 if off)
   /// the weighted terms that compare the render with the photo (stat, texture, placement,
-  /// highlight): `loss` less the regularisers on the parameters (prior, ceiling). What held-back
+  /// highlight): `loss` less the regularisers on the parameters (prior, ceiling, palette). What held-back
   /// pixels test: a regulariser scores the fitted values, not how they explain other pixels.
   double lossData = 0;
 };

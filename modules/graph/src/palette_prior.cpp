@@ -1,0 +1,56 @@
+// ps::paletteLoss (palette_prior.hpp).
+#include "photoscene/graph/palette_prior.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "oklab.hpp"
+
+namespace ps {
+
+double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values, std::vector<float>* grad) {
+  if (static_cast<int>(values.size()) != graph.valueCount())
+    throw std::invalid_argument("paletteLoss: values must have valueCount() entries");
+  if (grad) grad->assign(values.size(), 0.0f);
+  const auto& params = graph.parameters();
+  // the colours as the albedo shows them: each ramp colour plus the graph's albedo offset, clamped
+  // as the albedo is (an offset of -0.19 on a dark brown turns it purple)
+  const int offsetIndex = graph.findParameter("albedo_offset");
+  const int aoff = offsetIndex >= 0 ? params[size_t(offsetIndex)].offset : -1;
+  double loss = 0;
+  for (const std::vector<int>& ramp : graph.colorRamps()) {
+    const size_t n = ramp.size();
+    std::vector<float> jac(9 * n);
+    std::vector<char> inside(3 * n);
+    std::vector<double> ca(n), cb(n), da(n), db(n);
+    double mca = 0, mcb = 0, mda = 0, mdb = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const GraphParameter& p = params[size_t(ramp[i])];
+      float c[3], lab[3], lab0[3];
+      for (int k = 0; k < 3; ++k) {
+        const float x = values[size_t(p.offset + k)] + (aoff >= 0 ? values[size_t(aoff + k)] : 0.f);
+        c[k] = std::clamp(x, 0.f, 1.f);
+        inside[3 * i + k] = x > 0.f && x < 1.f;
+      }
+      graphimpl::linearToOklab(c, lab, &jac[9 * i]);
+      graphimpl::linearToOklab(p.defaultValue.data(), lab0);
+      ca[i] = lab[1], cb[i] = lab[2], da[i] = lab0[1], db[i] = lab0[2];
+      mca += ca[i] / n, mcb += cb[i] / n, mda += da[i] / n, mdb += db[i] / n;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const double ra = (ca[i] - mca) - (da[i] - mda), rb = (cb[i] - mcb) - (db[i] - mdb);
+      loss += ra * ra + rb * rb;
+      if (!grad) continue;
+      const float* J = &jac[9 * i];  // rows L, a, b; columns r, g, b
+      const int off = params[size_t(ramp[i])].offset;
+      for (int c = 0; c < 3; ++c) {
+        const float g = inside[3 * i + c] ? float(2 * (ra * J[3 + c] + rb * J[6 + c])) : 0.f;
+        (*grad)[size_t(off + c)] += g;
+        if (aoff >= 0) (*grad)[size_t(aoff + c)] += g;
+      }
+    }
+  }
+  return loss;
+}
+
+}  // namespace ps
