@@ -4,6 +4,8 @@
 //   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
 //                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
 //                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--sliced 4] [--ps 0]
+//                           [--gain-start 1] [--palette 0] [--scales 2,4,8,16] [--min-map 0]
+//                           [--rotations 1] [--print-values]
 //
 // Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
 // textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
@@ -14,8 +16,10 @@
 //   texture  the photographed maps resized to 4 VIEW px per texture tile (INTER_AREA; 512 px, the
 //            stored size, at the default VIEW); a view is a window over a quarter of the tile's
 //            width at a random offset.
-//   graph    the graph's maps at N = 4 VIEW / k px (k = 2, 4, 8, 16: the window covers k/4 graph
-//            tiles, so the graph's pattern scale is searched), the window at a random offset.
+//   graph    the graph's maps at N = 4 VIEW / k px (k in --scales, 2, 4, 8, 16 by default: the
+//            window covers k/4 graph tiles, so the graph's pattern scale is searched), the window
+//            at a random offset (--min-map M: the maps evaluated at max(N, M) and box-averaged to
+//            N; --rotations 2: each scale also turned by 90 degrees).
 // Yardstick: one texture view is the fit's target; 4 more at random offsets are the references.
 // d_self = the mean of ps::eval::textureDistance between the target view and each reference (the
 // texture against itself at a random UV offset).
@@ -24,13 +28,21 @@
 // default, 0 = the loss as the pipeline's fit uses it; --shape the spectral shape's weight, 0.3
 // by default as in the pipeline's fit; --ps W weights each joint-statistics group W, 0 by
 // default) of the graph's view, Adam on the graph's
-// continuous parameters (normalised to [0, 1], learning rate 0.03; the albedo offset starts at
-// the value that matches the view's mean colour), through render = albedo * n_z and
+// continuous parameters (normalised to [0, 1], learning rate 0.03; the start matches the view's
+// mean colour: with --gain-start 1, the default, every colour parameter is first multiplied by
+// the channel's ratio of the means, and the albedo offset takes what remains; with 0 the offset
+// alone does, which took up to -0.5 from light graphs on dark photos and left their colours
+// hypersensitive), plus --palette W times the palette prior (graph/palette_prior.hpp; 0 by
+// default), through render = albedo * n_z and
 // MaterialGraph::backward. Each scale k gets --probe steps from the defaults; the best continues
 // to --iterations steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
 // textureDistance(reference view, graph view at a random offset) for the fitted graph against the
 // same 4 references; ratio = d_graph / d_self. A material is covered when its best graph's ratio
-// <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast).
+// <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast), and a colour
+// distance that no criterion uses (colourDistance: the joint sRGB histograms' chi-square, which
+// the luminance-only texture distance cannot see), the texture's own against the references and
+// the fitted graph's; each half of the real-texture yardstick (splitOf) is summarised apart.
+// --print-values prints the best graph's fitted parameters.
 //
 // Prints one row per material (category, best graph, scale, d_self, d_graph, ratio), the coverage,
 // and the list of materials without a graph within 1.5x. --sheet writes a contact sheet: per
@@ -97,7 +109,8 @@ void windowAdjoint(const cv::Mat& d, int ox, int oy, cv::Mat& acc) {
 cv::Mat boxDown(const cv::Mat& img, int f) {
   if (f == 1) return img;
   cv::Mat out;
-  cv::resize(img, out, img.size() / f, 0, 0, cv::INTER_AREA);  // an exact block mean at integer factors
+  cv::resize(img, out, img.size() / f, 0, 0,
+             cv::INTER_AREA);  // an exact block mean at integer factors
   return out;
 }
 cv::Mat boxDownAdjoint(const cv::Mat& d, int f) {
@@ -130,6 +143,7 @@ struct Offsets {
 struct Fit {
   std::string graph;
   int k = 1;
+  int rot = 0;  // quarter turns of the graph's view
   double loss = 1e30, dGraph = 1e30;
   ps::eval::TextureDistance blocks;  // dGraph = blocks.total
   cv::Mat view;
@@ -150,12 +164,34 @@ ps::eval::TextureDistance meanDistance(const std::vector<ps::eval::TextureHistog
   return d;
 }
 
+// The chi-square distance (0.5 sum (p - q)^2 / (p + q), in [0, 1]) between the joint colour
+// histograms (8 x 8 x 8 bins of 8-bit sRGB) of two linear-RGB views: which colours a view holds
+// together, which the texture distance (luminance only) does not see. Reported, never fitted.
+double colourDistance(const cv::Mat& a, const cv::Mat& b) {
+  auto hist = [](const cv::Mat& v) {
+    const cv::Mat s = ps::linearToSrgb(v, CV_8U);
+    std::vector<double> h(512, 0.0);
+    for (int y = 0; y < s.rows; ++y)
+      for (int x = 0; x < s.cols; ++x) {
+        const cv::Vec3b c = s.at<cv::Vec3b>(y, x);
+        h[size_t((c[0] >> 5) * 64 + (c[1] >> 5) * 8 + (c[2] >> 5))] += 1.0 / double(s.total());
+      }
+    return h;
+  };
+  const auto p = hist(a), q = hist(b);
+  double d = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p[i] + q[i] > 0) d += 0.5 * (p[i] - q[i]) * (p[i] - q[i]) / (p[i] + q[i]);
+  return d;
+}
+
 // Fits graph `name` to the texture view; returns the best state's view and distance.
 Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
              const ps::TextureLossTarget& target,
              const std::vector<ps::eval::TextureHistograms>& texHist, const cv::Mat& mask,
              const cv::Scalar& targetMean, int view, int probe, int iterations, float palette,
-             const std::vector<int>& scales, int minMap, ps::Rng& rng) {
+             const std::vector<int>& scales, int minMap, int rotations, bool gainStart,
+             ps::Rng& rng) {
   ps::MaterialGraph g = lib.create(name);
   const auto mask01 = g.differentiableMask();
   std::vector<float> range(mask01.size(), 1.f);
@@ -178,22 +214,30 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
     *m = g.evaluate(mapSize(k), maps);
     return boxDown(flatRender(m->albedo, m->normal), mapSize(k) / (4 * view / k));
   };
-  auto step = [&](State& s, int k, bool update) {
+  // the view of the graph at scale k, turned by rot quarter turns clockwise (0 or 1: the
+  // statistics are the same under a half turn)
+  auto turned = [](cv::Mat v, int rot) {
+    if (rot) cv::rotate(v, v, cv::ROTATE_90_CLOCKWISE);
+    return v;
+  };
+  auto step = [&](State& s, int k, int rot, bool update) {
     const int n = 4 * view / k, f = mapSize(k) / n;
     g.setValues(s.x);
     ps::MaterialMaps m;
     const cv::Mat render = flatAt(k, &m);
-    const cv::Mat v = window(render, ox % n, oy % n, view);
+    const cv::Mat v = turned(window(render, ox % n, oy % n, view), rot);
     ps::TextureLossParams tp;
     tp.target = &target;
     tp.render = v;
     std::vector<float> gPalette;
-    const double L = ps::textureLossForward(tp) +
-                     (palette > 0 ? palette * ps::paletteLoss(g, s.x, update ? &gPalette : nullptr) : 0.0);
+    const double L =
+        ps::textureLossForward(tp) +
+        (palette > 0 ? palette * ps::paletteLoss(g, s.x, update ? &gPalette : nullptr) : 0.0);
     if (L < s.best) s.best = L, s.bestX = s.x;
     if (!update) return L;
     cv::Mat dv;
     ps::textureLossBackward(tp, 1.f, dv);
+    if (rot) cv::rotate(dv, dv, cv::ROTATE_90_COUNTERCLOCKWISE);  // the adjoint of the turn
     cv::Mat drn(n, n, CV_32FC3, cv::Scalar::all(0));
     windowAdjoint(dv, ox % n, oy % n, drn);
     const cv::Mat dr = boxDownAdjoint(drn, f);
@@ -228,29 +272,45 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
   Fit best;
   best.graph = name;
   State keep;
-  for (const int k : scales) {
-    State s;
-    s.x = g.defaultValues();
-    s.m1.assign(s.x.size(), 0.f), s.m2.assign(s.x.size(), 0.f);
-    if (aoff >= 0) {  // start with the mean colour matched (albedo_offset, closed form)
-      g.setValues(s.x);
-      ps::MaterialMaps m;
-      const cv::Scalar gm = cv::mean(flatAt(k, &m));
-      double nz = 0;
-      const int M = m.normal.rows;
-      for (int y = 0; y < M; ++y)
-        for (int x = 0; x < M; ++x) nz += std::max(0.f, m.normal.at<cv::Vec3f>(y, x)[2]);
-      nz = std::max(0.1, nz / double(M * M));
-      for (int c = 0; c < 3; ++c)
-        s.x[size_t(aoff + c)] = float(std::clamp((targetMean[c] - gm[c]) / nz, -0.5, 0.5));
-      s.x = g.projectValues(s.x);
+  for (const int k : scales)
+    for (int rot = 0; rot < rotations; ++rot) {
+      State s;
+      s.x = g.defaultValues();
+      s.m1.assign(s.x.size(), 0.f), s.m2.assign(s.x.size(), 0.f);
+      if (gainStart) {
+        // the mean colour matched first by a gain per channel on every colour parameter (the
+        // albedo is linear in them wherever they are blended by grey masks): an offset alone
+        // took -0.5 from a light graph fitted to a dark photo and left its colours hypersensitive
+        g.setValues(s.x);
+        ps::MaterialMaps m;
+        const cv::Scalar gm = cv::mean(flatAt(k, &m));
+        for (const auto& p : g.parameters())
+          if (p.dim == 3 && p.differentiable() && p.name != "albedo_offset")
+            for (int c = 0; c < 3; ++c) {
+              float& x = s.x[size_t(p.offset + c)];
+              x = std::clamp(float(x * (gm[c] > 1e-4 ? targetMean[c] / gm[c] : 1.0)), p.min, p.max);
+            }
+        s.x = g.projectValues(s.x);
+      }
+      if (aoff >= 0) {  // the mean colour matched (what remains of it: albedo_offset, closed form)
+        g.setValues(s.x);
+        ps::MaterialMaps m;
+        const cv::Scalar gm = cv::mean(flatAt(k, &m));
+        double nz = 0;
+        const int M = m.normal.rows;
+        for (int y = 0; y < M; ++y)
+          for (int x = 0; x < M; ++x) nz += std::max(0.f, m.normal.at<cv::Vec3f>(y, x)[2]);
+        nz = std::max(0.1, nz / double(M * M));
+        for (int c = 0; c < 3; ++c)
+          s.x[size_t(aoff + c)] = float(std::clamp((targetMean[c] - gm[c]) / nz, -0.5, 0.5));
+        s.x = g.projectValues(s.x);
+      }
+      for (int i = 0; i < probe; ++i) step(s, k, rot, true);
+      step(s, k, rot, false);
+      if (s.best < best.loss) best.loss = s.best, best.k = k, best.rot = rot, keep = s;
     }
-    for (int i = 0; i < probe; ++i) step(s, k, true);
-    step(s, k, false);
-    if (s.best < best.loss) best.loss = s.best, best.k = k, keep = s;
-  }
-  for (int i = probe; i < iterations; ++i) step(keep, best.k, true);
-  step(keep, best.k, false);
+  for (int i = probe; i < iterations; ++i) step(keep, best.k, best.rot, true);
+  step(keep, best.k, best.rot, false);
   best.loss = keep.best;
   // the fitted state's view at a fresh offset, and its distance to the texture views
   const int n = 4 * view / best.k;
@@ -258,7 +318,7 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
   ps::MaterialMaps m;
   const cv::Mat render = flatAt(best.k, &m);
   const int gx = int(rng.uniform() * n), gy = int(rng.uniform() * n);
-  best.view = window(render, gx, gy, view);
+  best.view = turned(window(render, gx, gy, view), best.rot);
   for (const auto& p : g.parameters()) {
     best.values += (best.values.empty() ? "" : " ") + p.name + "=";
     for (int q = 0; q < p.dim; ++q)
@@ -279,7 +339,8 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   bool printValues = false;
   std::vector<int> scales = {2, 4, 8, 16};
-  int minMap = 0;
+  int minMap = 0, rotations = 1;
+  bool gainStart = true;
   float sliced = 4.0f, psWeight = 0.0f, shape = 0.3f, palette = 0.0f;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
@@ -294,10 +355,16 @@ int main(int argc, char** argv) {
   app.add_option("--ps", psWeight, "weight of each joint-statistics group of the loss (ps*)");
   app.add_option("--shape", shape, "weight of the loss's spectral shape (bandShape)");
   app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
-  app.add_option("--scales", scales, "k per scale: the view covers k / 4 graph tiles (powers of two <= 4 VIEW)")
+  app.add_option("--scales", scales,
+                 "k per scale: the view covers k / 4 graph tiles (powers of two <= 4 VIEW)")
       ->delimiter(',');
-  app.add_option("--min-map", minMap,
-                 "graph maps evaluated at least this size and box-averaged to the scale's (0: none)");
+  app.add_option(
+      "--min-map", minMap,
+      "graph maps evaluated at least this size and box-averaged to the scale's (0: none)");
+  app.add_option("--rotations", rotations, "1: the graph as it is; 2: also turned by 90 degrees");
+  app.add_option(
+      "--gain-start", gainStart,
+      "1: match the mean colour by a gain on the colour parameters before the albedo offset");
   app.add_flag("--print-values", printValues, "print the best graph's fitted parameters");
   app.add_option("--palette", palette, "weight of the palette prior (graph/palette_prior.hpp)");
   CLI11_PARSE(app, argc, argv);
@@ -306,9 +373,12 @@ int main(int argc, char** argv) {
       throw ps::InputError("--view", "", "expected a power of two >= 64");
     auto pow2 = [](int x) { return x > 0 && (x & (x - 1)) == 0; };
     for (const int k : scales)
-      if (!pow2(k) || k > 4 * view) throw ps::InputError("--scales", "", "expected powers of two <= 4 VIEW");
+      if (!pow2(k) || k > 4 * view)
+        throw ps::InputError("--scales", "", "expected powers of two <= 4 VIEW");
     if (scales.empty()) throw ps::InputError("--scales", "", "expected at least one scale");
-    if (minMap != 0 && !pow2(minMap)) throw ps::InputError("--min-map", "", "expected 0 or a power of two");
+    if (rotations < 1 || rotations > 2) throw ps::InputError("--rotations", "", "expected 1 or 2");
+    if (minMap != 0 && !pow2(minMap))
+      throw ps::InputError("--min-map", "", "expected 0 or a power of two");
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
     std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
     if (!materialNames.empty()) {
@@ -324,6 +394,7 @@ int main(int argc, char** argv) {
       ps::eval::TextureDistance self;  // dSelf = self.total
       Fit best;
       cv::Mat texView;
+      double colourSelf = 0, colourGraph = 0;  // colourDistance against the 4 references (mean)
       int graphs = 0;
       double seconds = 0;
     };
@@ -358,22 +429,29 @@ int main(int argc, char** argv) {
       const ps::TextureLossTarget target(r.texView, mask, lossOptions);
       for (const auto& name : lib.namesInCategory(r.mat.category)) {
         Fit f = fitGraph(lib, name, target, cmp, mask, cv::mean(r.texView), view, probe, iterations,
-                         palette, scales, minMap, rng);
+                         palette, scales, minMap, rotations, gainStart, rng);
         ++r.graphs;
         if (f.dGraph < r.best.dGraph) r.best = f;
       }
+      for (const auto& o : others) {
+        r.colourSelf += colourDistance(r.texView, o) / double(others.size());
+        r.colourGraph += colourDistance(r.best.view, o) / double(others.size());
+      }
       r.seconds = timer.seconds();
       std::lock_guard<std::mutex> lk(printMutex);
-      std::fprintf(
-          stderr, "%-40s %-10s %-28s k=%d self %.4f graph %.4f ratio %.2f (%d graphs, %.0f s)\n",
-          r.mat.name.c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k, r.dSelf,
-          r.best.dGraph, r.best.dGraph / std::max(1e-9, r.dSelf), r.graphs, r.seconds);
+      std::fprintf(stderr,
+                   "%-40s %-10s %-28s k=%d self %.4f graph %.4f ratio %.2f colour %.3f / %.3f (%d "
+                   "graphs, %.0f s)\n",
+                   r.mat.name.c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k,
+                   r.dSelf, r.best.dGraph, r.best.dGraph / std::max(1e-9, r.dSelf), r.colourGraph,
+                   r.colourSelf, r.graphs, r.seconds);
       if (printValues) std::fprintf(stderr, "  %s\n", r.best.values.c_str());
     });
     int covered = 0;
     std::string missing;
     std::printf(
-        "| material | half | category | best graph | graph tiles in view | d_self | d_graph | ratio "
+        "| material | half | category | best graph | graph tiles in view | d_self | d_graph | "
+        "ratio "
         "|\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& r : rows) {
       const double ratio = r.best.dGraph / std::max(1e-9, r.dSelf);
@@ -383,8 +461,8 @@ int main(int argc, char** argv) {
         missing += "- " + r.mat.name + " (" + r.mat.category + "): best " + r.best.graph +
                    ", ratio " + cv::format("%.2f", ratio) + "\n";
       std::printf("| %s | %s | %s | %s | %.1f | %.4f | %.4f | %.2f |\n", r.mat.name.c_str(),
-                  ps::bench::splitOf(r.mat.name).c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k / 4.0, r.dSelf,
-                  r.best.dGraph, ratio);
+                  ps::bench::splitOf(r.mat.name).c_str(), r.mat.category.c_str(),
+                  r.best.graph.c_str(), r.best.k / 4.0, r.dSelf, r.best.dGraph, ratio);
     }
     std::printf("\ncovered (ratio <= 1.5): %d / %zu = %.0f %%\n", covered, rows.size(),
                 rows.empty() ? 0.0 : 100.0 * covered / double(rows.size()));
@@ -392,28 +470,39 @@ int main(int argc, char** argv) {
     // setting chosen here can be chosen on the tune half alone
     for (const char* half : {"tune", "check"}) {
       std::vector<double> ratios;
+      double colourGraph = 0, colourSelf = 0;
       for (const auto& r : rows)
-        if (ps::bench::splitOf(r.mat.name) == half) ratios.push_back(r.best.dGraph / std::max(1e-9, r.dSelf));
+        if (ps::bench::splitOf(r.mat.name) == half) {
+          ratios.push_back(r.best.dGraph / std::max(1e-9, r.dSelf));
+          colourGraph += r.colourGraph, colourSelf += r.colourSelf;
+        }
       if (ratios.empty()) continue;
       std::sort(ratios.begin(), ratios.end());
-      auto within = [&](double b) { return int(std::count_if(ratios.begin(), ratios.end(), [&](double x) { return x <= b; })); };
+      auto within = [&](double b) {
+        return int(std::count_if(ratios.begin(), ratios.end(), [&](double x) { return x <= b; }));
+      };
       const size_t m = ratios.size();
-      std::printf("%s half: %d / %zu within 1.5x, %d within 2x, %d within 3x, median ratio %.2f\n", half,
-                  within(1.5), m, within(2.0), within(3.0),
-                  m % 2 ? ratios[m / 2] : 0.5 * (ratios[m / 2 - 1] + ratios[m / 2]));
+      std::printf(
+          "%s half: %d / %zu within 1.5x, %d within 2x, %d within 3x, median ratio %.2f; mean "
+          "colour "
+          "distance %.3f (the texture's own %.3f)\n",
+          half, within(1.5), m, within(2.0), within(3.0),
+          m % 2 ? ratios[m / 2] : 0.5 * (ratios[m / 2 - 1] + ratios[m / 2]),
+          colourGraph / double(m), colourSelf / double(m));
     }
     std::printf("\nwithout a graph within 1.5x:\n%s",
                 missing.empty() ? "(none)\n" : missing.c_str());
     if (!csvPath.empty()) {
       std::ofstream c(csvPath);
       c << "material,category,best_graph,k,d_self,d_graph,ratio,graphs,seconds,self_lbp,"
-           "self_spectrum,self_contrast,graph_lbp,graph_spectrum,graph_contrast\n";
+           "self_spectrum,self_contrast,graph_lbp,graph_spectrum,graph_contrast,colour_self,colour_"
+           "graph\n";
       for (const auto& r : rows)
         c << r.mat.name << ',' << r.mat.category << ',' << r.best.graph << ',' << r.best.k << ','
           << r.dSelf << ',' << r.best.dGraph << ',' << r.best.dGraph / std::max(1e-9, r.dSelf)
           << ',' << r.graphs << ',' << r.seconds << ',' << r.self.lbp << ',' << r.self.spectrum
           << ',' << r.self.contrast << ',' << r.best.blocks.lbp << ',' << r.best.blocks.spectrum
-          << ',' << r.best.blocks.contrast << '\n';
+          << ',' << r.best.blocks.contrast << ',' << r.colourSelf << ',' << r.colourGraph << '\n';
     }
     if (!sheetPath.empty()) {
       const int perRow = 4, labelH = 16, cell = view;

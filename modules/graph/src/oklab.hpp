@@ -24,7 +24,8 @@ inline void linearToOklab(const float* c, float* lab, float* jacobian = nullptr)
     r[i] = std::cbrt(lms);
     dr[i] = lms > 1e-5f ? 1.f / (3.f * r[i] * r[i]) : 0.f;
   }
-  for (int k = 0; k < 3; ++k) lab[k] = kOklabM2[k][0] * r[0] + kOklabM2[k][1] * r[1] + kOklabM2[k][2] * r[2];
+  for (int k = 0; k < 3; ++k)
+    lab[k] = kOklabM2[k][0] * r[0] + kOklabM2[k][1] * r[1] + kOklabM2[k][2] * r[2];
   if (!jacobian) return;
   for (int k = 0; k < 3; ++k)
     for (int j = 0; j < 3; ++j) {

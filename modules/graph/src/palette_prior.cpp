@@ -8,7 +8,8 @@
 
 namespace ps {
 
-double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values, std::vector<float>* grad) {
+double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
+                   std::vector<float>* grad) {
   if (static_cast<int>(values.size()) != graph.valueCount())
     throw std::invalid_argument("paletteLoss: values must have valueCount() entries");
   if (grad) grad->assign(values.size(), 0.0f);

@@ -460,12 +460,15 @@ std::vector<float> turnHue(const float* rgb, double turn) {
                            {1.9779984951, -2.4285922050, 0.4505937099},
                            {0.0259040371, 0.7827717662, -0.8086757660}};
   double r[3], lab[3];
-  for (int i = 0; i < 3; ++i) r[i] = std::cbrt(M1[i][0] * rgb[0] + M1[i][1] * rgb[1] + M1[i][2] * rgb[2]);
+  for (int i = 0; i < 3; ++i)
+    r[i] = std::cbrt(M1[i][0] * rgb[0] + M1[i][1] * rgb[1] + M1[i][2] * rgb[2]);
   for (int k = 0; k < 3; ++k) lab[k] = M2[k][0] * r[0] + M2[k][1] * r[1] + M2[k][2] * r[2];
   const double a = lab[1] * std::cos(turn) - lab[2] * std::sin(turn);
   const double b = lab[1] * std::sin(turn) + lab[2] * std::cos(turn);
-  const cv::Matx33d m2(M2[0][0], M2[0][1], M2[0][2], M2[1][0], M2[1][1], M2[1][2], M2[2][0], M2[2][1], M2[2][2]);
-  const cv::Matx33d m1(M1[0][0], M1[0][1], M1[0][2], M1[1][0], M1[1][1], M1[1][2], M1[2][0], M1[2][1], M1[2][2]);
+  const cv::Matx33d m2(M2[0][0], M2[0][1], M2[0][2], M2[1][0], M2[1][1], M2[1][2], M2[2][0],
+                       M2[2][1], M2[2][2]);
+  const cv::Matx33d m1(M1[0][0], M1[0][1], M1[0][2], M1[1][0], M1[1][1], M1[1][2], M1[2][0],
+                       M1[2][1], M1[2][2]);
   cv::Vec3d q = m2.inv() * cv::Vec3d(lab[0], a, b);
   for (int i = 0; i < 3; ++i) q[i] = q[i] * q[i] * q[i];
   const cv::Vec3d c = m1.inv() * q;
@@ -511,8 +514,8 @@ TEST(Graph_Palette, the_ramp_may_turn_as_a_whole_but_not_apart) {
     EXPECT_GT(alone, 4 * together) << "turn " << turn;
     EXPECT_GT(alone, 1e-4) << "turn " << turn;
   }
-  // a common tint (every colour's chroma shifted alike, here toward grey by the same amount) is free
-  // in chroma terms; lightness changes are free entirely
+  // a common tint (every colour's chroma shifted alike, here toward grey by the same amount) is
+  // free in chroma terms; lightness changes are free entirely
   std::vector<float> brighter = v0;
   for (int i : ramp)
     for (int k = 0; k < 3; ++k) {
@@ -549,7 +552,8 @@ TEST(Graph_Palette, gradient_matches_finite_differences_and_stays_finite_at_blac
           std::vector<float> a = v, b = v;
           a[o] += h, b[o] -= h;
           const double fd = (ps::paletteLoss(g, a) - ps::paletteLoss(g, b)) / (2 * h);
-          EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4) << name << " value " << o;
+          EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4)
+              << name << " value " << o;
         }
       for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
     }

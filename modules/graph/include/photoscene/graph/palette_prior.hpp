@@ -34,6 +34,7 @@ namespace ps {
 /// L_palette of `values` (length graph.valueCount()); 0 for a graph without colour ramps. With
 /// `grad`, d L / d values (resized to valueCount(); 0 outside the ramps' colours). Finite for every
 /// value in range, black included.
-double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values, std::vector<float>* grad = nullptr);
+double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
+                   std::vector<float>* grad = nullptr);
 
 }  // namespace ps
