@@ -109,8 +109,8 @@ void windowAdjoint(const cv::Mat& d, int ox, int oy, cv::Mat& acc) {
 cv::Mat boxDown(const cv::Mat& img, int f) {
   if (f == 1) return img;
   cv::Mat out;
-  cv::resize(img, out, img.size() / f, 0, 0,
-             cv::INTER_AREA);  // an exact block mean at integer factors
+  // INTER_AREA at an integer factor: the exact block mean
+  cv::resize(img, out, img.size() / f, 0, 0, cv::INTER_AREA);
   return out;
 }
 cv::Mat boxDownAdjoint(const cv::Mat& d, int f) {
@@ -164,21 +164,21 @@ ps::eval::TextureDistance meanDistance(const std::vector<ps::eval::TextureHistog
   return d;
 }
 
-// The chi-square distance (0.5 sum (p - q)^2 / (p + q), in [0, 1]) between the joint colour
-// histograms (8 x 8 x 8 bins of 8-bit sRGB) of two linear-RGB views: which colours a view holds
-// together, which the texture distance (luminance only) does not see. Reported, never fitted.
-double colourDistance(const cv::Mat& a, const cv::Mat& b) {
-  auto hist = [](const cv::Mat& v) {
-    const cv::Mat s = ps::linearToSrgb(v, CV_8U);
-    std::vector<double> h(512, 0.0);
-    for (int y = 0; y < s.rows; ++y)
-      for (int x = 0; x < s.cols; ++x) {
-        const cv::Vec3b c = s.at<cv::Vec3b>(y, x);
-        h[size_t((c[0] >> 5) * 64 + (c[1] >> 5) * 8 + (c[2] >> 5))] += 1.0 / double(s.total());
-      }
-    return h;
-  };
-  const auto p = hist(a), q = hist(b);
+// The colour distance: the chi-square distance (0.5 sum (p - q)^2 / (p + q), in [0, 1]) between
+// the joint colour histograms (8 x 8 x 8 bins of 8-bit sRGB) of two linear-RGB views: which
+// colours a view holds together, which the texture distance (luminance only) does not see.
+// Reported, never fitted.
+std::vector<double> colourHistogram(const cv::Mat& view) {
+  const cv::Mat s = ps::linearToSrgb(view, CV_8U);
+  std::vector<double> h(512, 0.0);
+  for (int y = 0; y < s.rows; ++y)
+    for (int x = 0; x < s.cols; ++x) {
+      const cv::Vec3b c = s.at<cv::Vec3b>(y, x);
+      h[size_t((c[0] >> 5) * 64 + (c[1] >> 5) * 8 + (c[2] >> 5))] += 1.0 / double(s.total());
+    }
+  return h;
+}
+double colourDistance(const std::vector<double>& p, const std::vector<double>& q) {
   double d = 0;
   for (size_t i = 0; i < p.size(); ++i)
     if (p[i] + q[i] > 0) d += 0.5 * (p[i] - q[i]) * (p[i] - q[i]) / (p[i] + q[i]);
@@ -214,8 +214,8 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
     *m = g.evaluate(mapSize(k), maps);
     return boxDown(flatRender(m->albedo, m->normal), mapSize(k) / (4 * view / k));
   };
-  // the view of the graph at scale k, turned by rot quarter turns clockwise (0 or 1: the
-  // statistics are the same under a half turn)
+  // a view turned by rot quarter turns clockwise (0 or 1: the statistics are the same under a
+  // half turn)
   auto turned = [](cv::Mat v, int rot) {
     if (rot) cv::rotate(v, v, cv::ROTATE_90_CLOCKWISE);
     return v;
@@ -433,9 +433,12 @@ int main(int argc, char** argv) {
         ++r.graphs;
         if (f.dGraph < r.best.dGraph) r.best = f;
       }
+      const auto texColours = colourHistogram(r.texView),
+                 graphColours = colourHistogram(r.best.view);
       for (const auto& o : others) {
-        r.colourSelf += colourDistance(r.texView, o) / double(others.size());
-        r.colourGraph += colourDistance(r.best.view, o) / double(others.size());
+        const auto refColours = colourHistogram(o);
+        r.colourSelf += colourDistance(texColours, refColours) / double(others.size());
+        r.colourGraph += colourDistance(graphColours, refColours) / double(others.size());
       }
       r.seconds = timer.seconds();
       std::lock_guard<std::mutex> lk(printMutex);
@@ -450,9 +453,8 @@ int main(int argc, char** argv) {
     int covered = 0;
     std::string missing;
     std::printf(
-        "| material | half | category | best graph | graph tiles in view | d_self | d_graph | "
-        "ratio "
-        "|\n|---|---|---|---|---|---|---|---|\n");
+        "| material | half | category | best graph | graph tiles in view | d_self | d_graph "
+        "| ratio |\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& r : rows) {
       const double ratio = r.best.dGraph / std::max(1e-9, r.dSelf);
       if (ratio <= 1.5)
@@ -483,9 +485,8 @@ int main(int argc, char** argv) {
       };
       const size_t m = ratios.size();
       std::printf(
-          "%s half: %d / %zu within 1.5x, %d within 2x, %d within 3x, median ratio %.2f; mean "
-          "colour "
-          "distance %.3f (the texture's own %.3f)\n",
+          "%s half: %d / %zu within 1.5x, %d within 2x, %d within 3x, median ratio %.2f; "
+          "mean colour distance %.3f (the texture's own %.3f)\n",
           half, within(1.5), m, within(2.0), within(3.0),
           m % 2 ? ratios[m / 2] : 0.5 * (ratios[m / 2 - 1] + ratios[m / 2]),
           colourGraph / double(m), colourSelf / double(m));
@@ -495,8 +496,8 @@ int main(int argc, char** argv) {
     if (!csvPath.empty()) {
       std::ofstream c(csvPath);
       c << "material,category,best_graph,k,d_self,d_graph,ratio,graphs,seconds,self_lbp,"
-           "self_spectrum,self_contrast,graph_lbp,graph_spectrum,graph_contrast,colour_self,colour_"
-           "graph\n";
+           "self_spectrum,self_contrast,graph_lbp,graph_spectrum,graph_contrast,"
+           "colour_self,colour_graph\n";
       for (const auto& r : rows)
         c << r.mat.name << ',' << r.mat.category << ',' << r.best.graph << ',' << r.best.k << ','
           << r.dSelf << ',' << r.best.dGraph << ',' << r.best.dGraph / std::max(1e-9, r.dSelf)

@@ -156,7 +156,6 @@ std::vector<uint8_t> MaterialGraph::differentiableMask() const {
   return m;
 }
 
-
 std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) const {
   Rng rng(seed, 0x67726170ULL);
   std::vector<float> v = defaultValues();

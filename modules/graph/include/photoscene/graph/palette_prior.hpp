@@ -13,13 +13,13 @@
 //
 // c_i the chroma of the ramp's colour i at the current values as the albedo shows it (the colour
 // plus the graph's albedo_offset, clamped to [0, 1]: an offset that matches the mean colour turns
-// a ramp's dark end far more than its light end), d_i at the graph's defaults. The
-// ramp's common chroma (its hue and saturation as a whole: brown to red, grey to beige) and every
-// lightness are free; only how the colours differ from each other in chroma is held to the
-// default's. Its gradient: d L / d c_i = 2 r_i (r_i the bracket; the means cancel because the
-// r_i sum to 0), then through the Oklab Jacobian to the colour's and the offset's values (0 where
-// the clamp holds). Units: Oklab chroma
-// squared (a visible drift, pink against olive, is about 0.1 apart: L ~ 0.01).
+// a ramp's dark end far more than its light end), d_i at the graph's defaults. The ramp's common
+// chroma (its hue and saturation as a whole: brown to red, grey to beige) and every lightness are
+// free; only how the colours differ from each other in chroma is held to the default's. Its
+// gradient: d L / d c_i = 2 r_i (r_i the bracket; the means cancel because the r_i sum to 0),
+// then through the Oklab Jacobian to the colour's and the offset's values (0 where the clamp
+// holds). Units: Oklab chroma squared (a visible drift, pink against olive, is about 0.1 apart:
+// L ~ 0.01).
 //
 //   std::vector<float> grad;
 //   const double l = ps::paletteLoss(graph, values, &grad);  // 0 at graph.defaultValues()

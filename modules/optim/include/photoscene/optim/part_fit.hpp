@@ -12,10 +12,11 @@
 //            low-passed luminances of render and photo over the mask; Eq. 9's pixel term after the
 //            warp: the caller's photo is the aligned one). On in "balanced" (0.1), off elsewhere.
 //   + roughnessPriorWeight * L_prior + highlightWeight * L_hl + albedoCeilingWeight * L_ceil
-//   + paletteWeight * L_palette (graph/palette_prior.hpp: a colour ramp's hues kept together)
 //            (optim/roughness_prior.hpp: the category's log-roughness prior, the highlight
 //            contrast where the incident light predicts one, a soft barrier on albedo near 1;
 //            on in "balanced" and "fast", off in "paper")
+//   + paletteWeight * L_palette (graph/palette_prior.hpp: a colour ramp's colours keep the
+//            chroma differences of the graph's defaults; off in every preset)
 //
 // The roughness output of the graph is replaced by one scalar while fitting (initialised to the
 // mean of the graph's roughness map); the result says how to rescale the full map to it.
