@@ -514,8 +514,8 @@ TEST(Graph_Palette, the_ramp_may_turn_as_a_whole_but_not_apart) {
     EXPECT_GT(alone, 4 * together) << "turn " << turn;
     EXPECT_GT(alone, 1e-4) << "turn " << turn;
   }
-  // a common tint (every colour's chroma shifted alike, here toward grey by the same amount) is
-  // free in chroma terms; lightness changes are free entirely
+  // the whole ramp made brighter (every colour x 1.5, clamped at 1): lightness is free, and the
+  // chroma differences that the brightening scales stay small
   std::vector<float> brighter = v0;
   for (int i : ramp)
     for (int k = 0; k < 3; ++k) {
