@@ -474,6 +474,52 @@ marble('stone_marble_white', 'White Carrara-like polished marble with grey veins
 marble('stone_marble_dark', 'Dark polished marble (Nero Marquina-like) with white veins.', [0.04, 0.04, 0.045], [0.75, 0.75, 0.73], 43)
 
 
+def marble_veined():
+    # issue 18: the photographed dark marbles (ambientcg marble006 / 016) hold a network of fine
+    # veins, where marble() draws a few broad warped stripes. A vein runs along the mid-level
+    # contour of a noise field: a tent curve peaks where the field crosses 0.5 and a levels
+    # threshold keeps the ridge's top; a coarse net and a fine one, drawn out along one
+    # direction, over a clouded and speckled ground. Screen blends keep it differentiable (a
+    # max kinks where the layers tie).
+    g = G('stone_marble_veined', 'stone', 'Marble with a network of fine veins (Nero Marquina, '
+          'Calacatta, grey Bardiglio): veins along the mid-level contour of two warped noise '
+          'fields, a coarse net and a fine one, over a clouded ground.')
+    g.n('flow', 'fbm', scale_x=2, scale_y=2, octaves=4, roughness=0.5, seed=61)
+    for net, scale, octaves, rough, seed, flow, low, high in (('1', 3, 5, 0.45, 62, 0.08, 0.85, None),
+                                                              ('2', 6, 4, 0.5, 63, 0.05, 0.9, 0.5)):
+        g.n('n' + net, 'fbm', scale_x=scale, scale_y=scale, octaves=octaves, roughness=rough, seed=seed)
+        g.n('n%sw' % net, 'directional_warp', {'in': 'n' + net, 'height': 'flow'}, intensity=flow, angle=0.12)
+        g.n('t' + net, 'curve', {'in': 'n%sw' % net}, p0=0, p1=0, p2=1, p3=0, p4=0)
+        levels = dict(in_low=low, gamma=0.7)
+        if high is not None:
+            levels['out_high'] = high
+        g.n('v' + net, 'levels', {'in': 't' + net}, **levels)
+    blend(g, 'veins', 'v2', 'v1', mode='screen', opacity=1)
+    g.n('cloud', 'fbm', scale_x=2, scale_y=2, octaves=6, roughness=0.6, seed=64)
+    g.n('grain', 'fbm', scale_x=48, scale_y=48, octaves=2, roughness=0.5, seed=65)
+    blend(g, 'cg', 'grain', 'cloud', mode='overlay', opacity=0.3)
+    g.n('ground', 'levels', {'in': 'cg'}, out_low=0.0, out_high=0.3)
+    blend(g, 'mix', 'veins', 'ground', mode='screen', opacity=1)
+    g.n('col', 'gradient_map', {'in': 'mix'}, color_0=[0.03, 0.03, 0.035], color_1=[0.12, 0.12, 0.125],
+        color_2=[0.7, 0.7, 0.68], position=0.3)
+    g.p('vein_width', 'v1.in_low', min=0.6, max=0.98, doc="main veins' threshold on the contour ridge (lower: wider veins)")
+    g.p('fine_vein_width', 'v2.in_low', min=0.6, max=0.98, doc="fine veins' threshold (lower: wider)")
+    g.p('fine_vein_strength', 'v2.out_high', min=0.0, max=1.0, doc='how bright the fine net is against the main veins')
+    g.p('vein_sharpness', 'v1.gamma', 'v2.gamma', min=0.2, max=2.0, doc='profile across a vein (low: thin bright core)')
+    g.p('vein_flow', 'n1w.intensity', 'n2w.intensity', min=0.0, max=0.2, doc='how far the veins are drawn out along one direction')
+    g.p('flow_angle', 'n1w.angle', 'n2w.angle', min=-0.5, max=0.5, doc='direction the veins are drawn out along (turns)')
+    g.p('clouding', 'ground.out_high', min=0.0, max=1.0, doc='variation of the ground between the veins')
+    g.p('grain', 'cg.opacity', min=0.0, max=1.0, doc='fine speckle of the ground')
+    g.p('ground_color', 'col.color_0')
+    g.p('cloud_color', 'col.color_1')
+    g.p('vein_color', 'col.color_2')
+    rough_range(g, 'veins', 0.1, 0.2, ('roughness_base', 'roughness_veins'))
+    finish(g, 'veins', 'rough', 'col', 0.001)
+
+
+marble_veined()
+
+
 def granite(name, desc, c0, c1, c2, seed, cat='stone', rough=(0.15, 0.3), scale=64):
     g = G(name, cat, desc)
     g.n('v', 'voronoi', scale=scale, jitter=1.0, mode='cell_value', seed=seed)
