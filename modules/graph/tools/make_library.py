@@ -760,6 +760,38 @@ brick('brick_red', 'Red clay brick wall, running bond, grey mortar.', [0.4, 0.14
 brick('brick_white_painted', 'Painted white brick wall.', [0.78, 0.77, 0.74], [0.7, 0.69, 0.66], 12, 4, 173)
 brick('brick_yellow', 'Yellow / buff London stock brick, dark mortar.', [0.55, 0.42, 0.25], [0.3, 0.29, 0.27], 14, 4, 175)
 
+
+def interlocking_pavers():
+    # issue 18: interlocking concrete pavers (polyhaven brick_pavement_03): a running bond whose
+    # long joints zigzag, so neighbouring pavers key into each other. The bond's maps are moved
+    # along v by a trapezoid wave along u (soft stripes, two waves per paver length).
+    g = G('brick_pavers_interlocking', 'brick', 'Interlocking concrete pavers (zigzag or "uni" '
+          'pavers) in a running bond with sand joints.')
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=6, roughness=0.6, seed=181)
+    g.n('t', 'tile', {'pattern': 'f'}, layout='bricks', rows=8, cols=4, row_offset=0.5, gap=0.1, bevel=0.15,
+        lum_var=0.4, seed=182)
+    g.p('rows', 't.rows', min=4, max=16)
+    g.p('joint_width', 't.gap', min=0.02, max=0.3)
+    g.p('edge_chamfer', 't.bevel', min=0.02, max=0.3)
+    g.p('paver_variation', 't.lum_var')
+    g.n('wave', 'stripes', direction='u', count=8, width=0.5, softness=0.5)
+    blend(g, 'm', 't.sampled', 't.random', param='paver_texture', mode='overlay', opacity=0.5)
+    colors3(g, 'col', 'm', [0.18, 0.18, 0.17], [0.36, 0.35, 0.33], [0.5, 0.49, 0.46], 0.5, 'paver')
+    uniform(g, 'jc', [0.16, 0.15, 0.14], 'joint_color')
+    g.n('edge', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.3)
+    g.n('mask', 'histogram_scan', {'in': 'edge'}, position=0.65, contrast=0.7)
+    blend(g, 'flat', 'col', 'jc', 'mask')
+    g.n('alb', 'directional_warp', {'in': 'flat', 'height': 'wave'}, intensity=0.02, angle=0.25)
+    g.n('h0', 'blend', {'fg': 'f', 'bg': 't.height'}, mode='multiply', opacity=0.3)
+    g.n('h', 'directional_warp', {'in': 'h0', 'height': 'wave'}, intensity=0.02, angle=0.25)
+    g.p('interlock_depth', 'alb.intensity', 'h.intensity', min=0.0, max=0.05,
+        doc='how far the long joints zigzag (texture units)')
+    # half a row down and a sixteenth across: the joints off the texture's border (tileability)
+    finish(g, 'h', rough_range(g, 'f', 0.75, 0.95), 'alb', 0.008, shift=(1 / 16, 1 / 16))
+
+
+interlocking_pavers()
+
 # ---------------------------------------------------------------- fabric / carpet / leather
 def fabric(name, desc, pattern, count, col, width, fuzziness, seed, cat='fabric', rough=(0.85, 0.95), shift=None):
     g = G(name, cat, desc)

@@ -1,5 +1,6 @@
 #include "photoscene/select/evaluation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -38,10 +39,9 @@ std::string SelectionReport::table() const {
   }
   s += "graphs right in fewer than half of their draws:";
   bool any = false;
+  const int perGraph = total / std::max(1, static_cast<int>(correctPerGraph.size()));
   for (const auto& [n, k] : correctPerGraph) {
-    const auto cat = categoryConfusion.size();
-    (void)cat;
-    if (2 * k < total / std::max<size_t>(1, correctPerGraph.size())) {
+    if (2 * k < perGraph) {
       s += " " + n + "(" + std::to_string(k) + ")";
       any = true;
     }
@@ -55,12 +55,15 @@ SelectionReport evaluateSelection(const ExemplarBank& bank, const GraphLibrary& 
   SelectionReport r;
   const int size = bankOptions.renderSize;
   const cv::Mat mask(size, size, CV_8UC1, cv::Scalar(255));
-  Rng rng(o.seed);
   for (const std::string& name : library.names()) {
+    // each graph's draws and views keyed by its name: a graph added to the library leaves the
+    // others' held-out cases as they were
+    const uint64_t key = Hasher().add(o.seed).add(std::string_view(name)).digest();
+    Rng rng(key);
     MaterialGraph g = library.create(name);
     r.correctPerGraph[name] = 0;
     for (int d = 0; d < o.drawsPerGraph; ++d) {
-      g.setValues(g.randomValues(mix64(o.seed + 7919ULL * r.total), o.spread));
+      g.setValues(g.randomValues(mix64(key + 7919ULL * uint64_t(d)), o.spread));
       const MaterialMaps maps =
           g.evaluate(bankOptions.mapSize, MapSet::of({MapKind::Albedo, MapKind::Normal}));
       const float scale = std::exp(rng.uniform(std::log(o.minUvScale), std::log(o.maxUvScale)));
