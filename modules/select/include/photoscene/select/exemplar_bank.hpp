@@ -42,10 +42,13 @@ struct ObservationRanges {
 };
 
 struct ExemplarBankOptions {
-  int drawsPerGraph = 10;  ///< N random draws per graph (the paper: 10)
-  float spread = 0.6f;     ///< MaterialGraph::randomValues spread
-  int mapSize = 256;       ///< graph evaluation size
-  int renderSize = 96;     ///< canonical patch size (pixels)
+  /// N random draws per graph (the paper: 10). 16 since 2026-12-07: on the held-out
+  /// development seed (110 graphs) 10 / 16 / 24 draws gave 80.2 / 83.1 / 83.8 % top-1 and
+  /// 86.4 / 89.1 / 89.5 % category, the build 53 / 81 / ~120 s on 2 threads
+  int drawsPerGraph = 16;
+  float spread = 0.6f;  ///< MaterialGraph::randomValues spread
+  int mapSize = 256;    ///< graph evaluation size
+  int renderSize = 96;  ///< canonical patch size (pixels)
   /// Texture repeats across the canonical patch, one exemplar each: spaced by about 1.15x over
   /// the held-out range (1.5-5), so some exemplar of every draw is within 8% of a query's scale.
   /// (Denser scales give a query more near neighbours of its own graph: held-out development
