@@ -1475,6 +1475,43 @@ def concrete_blocks():
 concrete_blocks()
 
 
+def hex_pavers():
+    # issue 18: hexagonal concrete pavers (polyhaven hexagonal_concrete_paving). A running bond
+    # whose horizontal joints are folded into chevrons is a hexagon tiling: the vertical joints
+    # are the hexagons' upright sides, and each horizontal joint is moved along v by a triangle
+    # wave that peaks over the centres of the row below it (its phase alternates from joint to
+    # joint: two waves half a paver apart, each used in the band of rows around its joints, the
+    # bands switching softly at mid-row). 4 rows of 3 pavers per tile: large pavers, width / row
+    # pitch 1.33 (a regular hexagon's 1.15).
+    g = G('concrete_hex_pavers', 'concrete', 'Hexagonal concrete pavers (pointy-top hexagons in '
+          'offset rows) with sand joints.')
+    rows, cols = 4, 3
+    g.n('f', 'fbm', scale_x=16, scale_y=16, octaves=6, roughness=0.6, seed=621)
+    pitted(g, 'f', 96, 622, 0.9, 0.8, 's')
+    g.n('t', 'tile', {'pattern': 's'}, layout='bricks', rows=rows, cols=cols, row_offset=0.5, gap=0.08, bevel=0.1,
+        lum_var=0.3, seed=623)
+    g.p('joint_width', 't.gap', min=0.02, max=0.25)
+    g.p('edge_chamfer', 't.bevel', min=0.02, max=0.3)
+    g.p('paver_variation', 't.lum_var')
+    g.n('w0', 'stripes', direction='u', count=cols, width=0.5, softness=0.5)
+    g.n('w1', 'transform', {'in': 'w0'}, offset_u=0.5 / cols)
+    g.n('band', 'stripes', direction='v', count=rows // 2, width=0.5, softness=0.15)
+    blend(g, 'wave', 'w1', 'w0', 'band')
+    blend(g, 'm', 't.random', 't.sampled', param='paver_texture', mode='overlay', opacity=0.4)
+    colors3(g, 'col', 'm', [0.3, 0.29, 0.27], [0.45, 0.44, 0.41], [0.58, 0.57, 0.53], 0.5, 'paver')
+    over_ground(g, 'col', 'jc', [0.25, 0.24, 0.22], 'joint_color', 't.height', out='flat')
+    point = round(1 / rows / 3, 4)  # a regular hexagon's points rise a third of the row pitch
+    g.n('alb', 'directional_warp', {'in': 'flat', 'height': 'wave'}, intensity=point, angle=0.25)
+    g.n('h0', 'blend', {'fg': 't.sampled', 'bg': 't.height'}, mode='multiply', opacity=0.3)
+    g.n('h', 'directional_warp', {'in': 'h0', 'height': 'wave'}, intensity=point, angle=0.25)
+    g.p('point_height', 'alb.intensity', 'h.intensity', min=0.0, max=0.1,
+        doc="how far the hexagons' points rise above and below their sides (texture units)")
+    finish(g, 'h', rough_range(g, 'f', 0.8, 0.95), 'alb', 0.01)
+
+
+hex_pavers()
+
+
 def board_formed():
     g = G('concrete_board_formed', 'concrete', 'Board-formed concrete: the imprint of formwork boards (horizontal bands with wood grain) on grey concrete.')
     g.n('gr', 'fbm', scale_x=2, scale_y=64, octaves=4, roughness=0.6, seed=611)
