@@ -44,8 +44,7 @@
 // to --iterations steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
 // textureDistance(reference view, graph view) over --graph-views views of the fitted graph at
 // random offsets and the same references; ratio = d_graph / d_self. A material is covered when its
-// best graph's ratio
-// <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast), and a colour
+// best graph's ratio <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast), and a colour
 // distance that no criterion uses (colourDistance: the joint sRGB histograms' chi-square, which
 // the luminance-only texture distance cannot see), the texture's own against the references and
 // the fitted graph's; each half of the real-texture yardstick (splitOf) is summarised apart.
