@@ -44,10 +44,11 @@
 // to --iterations steps in all; the best iterate by loss is kept. Reported: d_graph = the mean of
 // textureDistance(reference view, graph view) over --graph-views views of the fitted graph at
 // random offsets and the same references; ratio = d_graph / d_self. A material is covered when its
-// best graph's ratio <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum, contrast), and a colour
-// distance that no criterion uses (colourDistance: the joint sRGB histograms' chi-square, which
-// the luminance-only texture distance cannot see), the texture's own against the references and
-// the fitted graph's; each half of the real-texture yardstick (splitOf) is summarised apart.
+// best graph's ratio <= 1.5. The CSV also has each distance's three blocks (LBP, spectrum,
+// contrast), and a colour distance that no criterion uses (colourDistance: the joint sRGB
+// histograms' chi-square, which the luminance-only texture distance cannot see), the texture's own
+// against the references and the fitted graph's; each half of the real-texture yardstick (splitOf)
+// is summarised apart.
 // --print-values prints the best graph's fitted parameters.
 //
 // Prints one row per material (category, best graph, scale, d_self, d_graph, ratio), the coverage,
@@ -411,9 +412,10 @@ int main(int argc, char** argv) {
       ps::eval::TextureDistance self;  // dSelf = self.total
       Fit best;
       cv::Mat texView;
-      double colourSelf = 0, colourGraph = 0;  // colourDistance against the 4 references (mean)
+      double colourSelf = 0, colourGraph = 0;  // colourDistance against the references (mean)
       int graphs = 0;
       double seconds = 0;
+      double ratio() const { return best.dGraph / std::max(1e-9, dSelf); }
     };
     std::vector<Row> rows(mats.size());
     std::mutex printMutex;
@@ -471,8 +473,8 @@ int main(int argc, char** argv) {
                    "%-40s %-10s %-28s k=%d self %.4f graph %.4f ratio %.2f colour %.3f / %.3f (%d "
                    "graphs, %.0f s)\n",
                    r.mat.name.c_str(), r.mat.category.c_str(), r.best.graph.c_str(), r.best.k,
-                   r.dSelf, r.best.dGraph, r.best.dGraph / std::max(1e-9, r.dSelf), r.colourGraph,
-                   r.colourSelf, r.graphs, r.seconds);
+                   r.dSelf, r.best.dGraph, r.ratio(), r.colourGraph, r.colourSelf, r.graphs,
+                   r.seconds);
       if (printValues) std::fprintf(stderr, "  %s\n", r.best.values.c_str());
     });
     int covered = 0;
@@ -481,7 +483,7 @@ int main(int argc, char** argv) {
         "| material | half | category | best graph | graph tiles in view | d_self | d_graph "
         "| ratio |\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& r : rows) {
-      const double ratio = r.best.dGraph / std::max(1e-9, r.dSelf);
+      const double ratio = r.ratio();
       if (ratio <= 1.5)
         ++covered;
       else
@@ -500,7 +502,7 @@ int main(int argc, char** argv) {
       double colourGraph = 0, colourSelf = 0;
       for (const auto& r : rows)
         if (ps::bench::splitOf(r.mat.name) == half) {
-          ratios.push_back(r.best.dGraph / std::max(1e-9, r.dSelf));
+          ratios.push_back(r.ratio());
           colourGraph += r.colourGraph, colourSelf += r.colourSelf;
         }
       if (ratios.empty()) continue;
@@ -525,10 +527,10 @@ int main(int argc, char** argv) {
            "colour_self,colour_graph\n";
       for (const auto& r : rows)
         c << r.mat.name << ',' << r.mat.category << ',' << r.best.graph << ',' << r.best.k << ','
-          << r.dSelf << ',' << r.best.dGraph << ',' << r.best.dGraph / std::max(1e-9, r.dSelf)
-          << ',' << r.graphs << ',' << r.seconds << ',' << r.self.lbp << ',' << r.self.spectrum
-          << ',' << r.self.contrast << ',' << r.best.blocks.lbp << ',' << r.best.blocks.spectrum
-          << ',' << r.best.blocks.contrast << ',' << r.colourSelf << ',' << r.colourGraph << '\n';
+          << r.dSelf << ',' << r.best.dGraph << ',' << r.ratio() << ',' << r.graphs << ','
+          << r.seconds << ',' << r.self.lbp << ',' << r.self.spectrum << ',' << r.self.contrast
+          << ',' << r.best.blocks.lbp << ',' << r.best.blocks.spectrum << ','
+          << r.best.blocks.contrast << ',' << r.colourSelf << ',' << r.colourGraph << '\n';
     }
     if (!sheetPath.empty()) {
       const int perRow = 4, labelH = 16, cell = view;
@@ -544,7 +546,7 @@ int main(int argc, char** argv) {
           cv::cvtColor(srgb, bgr, cv::COLOR_RGB2BGR);
           bgr.copyTo(sheet(cv::Rect(x0 + s * cell, y0 + labelH, cell, cell)));
         }
-        const double ratio = rows[i].best.dGraph / std::max(1e-9, rows[i].dSelf);
+        const double ratio = rows[i].ratio();
         std::string label = rows[i].mat.name;
         if (label.rfind("polyhaven_", 0) == 0) label = "ph_" + label.substr(10);
         if (label.rfind("ambientcg_", 0) == 0) label = "acg_" + label.substr(10);
