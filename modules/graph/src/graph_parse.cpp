@@ -298,6 +298,9 @@ std::vector<Binding> readParameter(const Parser& ps, const json& jp, const std::
     ps.fail(w, "expected min <= max inside the node parameter's range [" +
                    std::to_string(first->min) + ", " + std::to_string(first->max) + "]");
   gp.min = lo, gp.max = hi;
+  num("draw_spread", gp.drawSpread);
+  if (!(gp.drawSpread >= 0.f && gp.drawSpread <= 1.f))
+    ps.fail(w + ".draw_spread", "expected a number in [0, 1]");
   if (jp.contains("default")) {
     auto v = readValue(ps, jp["default"], gp, w + ".default");
     gp.defaultValue.assign(v.begin(), v.end());

@@ -193,14 +193,15 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
       for (int k = 0; k < 3; ++k) x[k] = std::isfinite(rgb[k]) ? rgb[k] : x[k];
       continue;
     }
+    const float own = spread * p.drawSpread;
     for (int k = 0; k < p.dim; ++k) {
       float& x = v[p.offset + k];
       if (p.kind == ParameterKind::Continuous) {
-        x = x + spread * (r.uniform(p.min, p.max) - x);
+        x = x + own * (r.uniform(p.min, p.max) - x);
       } else {
         const float u = r.uniform();
         const float s = std::floor(r.uniform(p.min, p.max + 1.f));
-        if (u < spread) x = std::min(s, p.max);
+        if (u < own) x = std::min(s, p.max);
       }
     }
   }

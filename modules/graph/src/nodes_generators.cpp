@@ -303,6 +303,111 @@ struct Fbm {
   }
 };
 
+/// fbm whose octaves each have their own amplitude (a radial power spectrum in octave steps that
+/// the fit shapes freely, where fbm's one `roughness` can only tilt a power law). Octave k has
+/// scale << k cells per unit; out = 0.5 + 0.9 s / q with s = sum_k a_k v_k and q = sqrt(sum_k
+/// a_k^2 + eps), so the output's spread does not depend on the amplitudes' common level (the
+/// ramps after it set the contrast) and only their ratios shape the look.
+struct FbmBands {
+  static constexpr int kBands = 8;
+  enum { kScaleX, kScaleY, kOctaves, kSeed, kBand0 };
+  static NodeTypeDesc desc() {
+    NodeTypeDesc d{
+        "fbm_bands",
+        "Tileable gradient (Perlin) noise with one amplitude per octave (band_k: "
+        "octave k, scale << k cells per unit); normalised, output centered on 0.5.",
+        {},
+        {{"out", 1}},
+        {pInt("scale_x", 1, 256, 4, "cells per unit along u of octave 0"),
+         pInt("scale_y", 1, 256, 4, "cells per unit along v of octave 0"),
+         pInt("octaves", 1, kBands, 6, "number of octaves (frequency doubles each)"), pSeed()}};
+    static const char* names[kBands] = {"band_0", "band_1", "band_2", "band_3",
+                                        "band_4", "band_5", "band_6", "band_7"};
+    for (int k = 0; k < kBands; ++k)
+      d.params.push_back(pCont(names[k], 0, 1, static_cast<float>(std::pow(0.6, k)),
+                               "amplitude of octave k (relative to the others)"));
+    return d;
+  }
+  static constexpr double kGain = 0.9;
+  static constexpr double kEps = 1e-6;
+  template <class T>
+  static T norm2(const NodeCtx<T>& c, int K) {
+    T q2 = T(kEps);
+    for (int k = 0; k < K; ++k) q2 += c.P(kBand0 + k) * c.P(kBand0 + k);
+    return q2;
+  }
+  template <class T>
+  static int octaves(const NodeCtx<T>& c) {
+    return std::clamp(c.I(kOctaves), 1, int(kBands));
+  }
+  template <class T>
+  static std::vector<PerlinOctave<T>> makeOctaves(const NodeCtx<T>& c, int K) {
+    std::vector<PerlinOctave<T>> oct(K);
+    const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
+    for (int k = 0; k < K; ++k)
+      oct[k].init(c.n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
+    return oct;
+  }
+  // scratch: [0] = s (backward regenerates the octaves: K planes kept from forward would cost K
+  // times a map's memory at the export's texture size)
+  template <class T>
+  static void forward(NodeCtx<T>& c) {
+    const int n = c.n, K = octaves(c);
+    const T gq = T(kGain) / std::sqrt(norm2(c, K));
+    auto& S = *c.scratch;
+    S.resize(1);
+    S[0].create(n, 1);
+    const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
+    forRowRanges(n, [&](int y0, int y1) {
+      std::vector<typename PerlinOctave<T>::Rows> rows(K);
+      std::vector<T> v(n);
+      for (int y = y0; y < y1; ++y) {
+        T* s = S[0].row(y);
+        std::fill(s, s + n, T(0));
+        for (int k = 0; k < K; ++k) {
+          oct[k].row(v.data(), y, rows[k]);
+          const T a = c.P(kBand0 + k);
+          for (int x = 0; x < n; ++x) s[x] += a * v[x];
+        }
+        T* o = c.out[0]->row(y);
+        for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
+      }
+    });
+  }
+  // d out / d a_j = G (v_j / q - s a_j / q^3); the sums over pixels are kept per row and added in
+  // row order, so the gradient does not depend on how rows were split between threads
+  template <class T>
+  static void backward(NodeCtx<T>& c) {
+    if (!c.needParamGrad) return;
+    const int n = c.n, K = octaves(c);
+    const T q2 = norm2(c, K), q = std::sqrt(q2);
+    const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
+    std::vector<T> perRow(static_cast<size_t>(n) * (K + 1),
+                          T(0));  // [y][k] sum g v_k, [y][K] sum g s
+    forRowRanges(n, [&](int y0, int y1) {
+      std::vector<typename PerlinOctave<T>::Rows> rows(K);
+      std::vector<T> v(n);
+      for (int y = y0; y < y1; ++y) {
+        const T* g = c.dOut[0]->row(y);
+        const T* s = (*c.scratch)[0].row(y);
+        T* acc = &perRow[static_cast<size_t>(y) * (K + 1)];
+        for (int x = 0; x < n; ++x) acc[K] += g[x] * s[x];
+        for (int k = 0; k < K; ++k) {
+          if (!c.wantP(kBand0 + k)) continue;
+          oct[k].row(v.data(), y, rows[k]);
+          for (int x = 0; x < n; ++x) acc[k] += g[x] * v[x];
+        }
+      }
+    });
+    std::vector<T> sum(K + 1, T(0));
+    for (int y = 0; y < n; ++y)
+      for (int k = 0; k <= K; ++k) sum[k] += perRow[static_cast<size_t>(y) * (K + 1) + k];
+    for (int k = 0; k < K; ++k)
+      if (c.wantP(kBand0 + k))
+        c.dP(kBand0 + k) += T(kGain) * (sum[k] / q - sum[K] * c.P(kBand0 + k) / (q * q2));
+  }
+};
+
 // ---------------------------------------------------------------- value noise / white noise
 struct ValueNoise : NoGradient {
   enum { kScale, kOctaves, kSeed };
@@ -1062,8 +1167,9 @@ struct Weave {
 }  // namespace
 
 void addGeneratorNodes(std::vector<NodeType>& out) {
-  addNodeTypes<Uniform<1>, Uniform<3>, Fbm, ValueNoise, WhiteNoise, Voronoi, GradientLinear,
-               GradientRadial, Stripes, Checker, Shape, Tile, Herringbone, Weave>(out);
+  addNodeTypes<Uniform<1>, Uniform<3>, Fbm, FbmBands, ValueNoise, WhiteNoise, Voronoi,
+               GradientLinear, GradientRadial, Stripes, Checker, Shape, Tile, Herringbone, Weave>(
+      out);
 }
 
 }  // namespace ps::graphimpl

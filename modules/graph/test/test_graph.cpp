@@ -88,6 +88,40 @@ TEST(Graph_Nodes, gradients_at_random_parameters) {
   }
 }
 
+// fbm_bands with band_k = r^k is fbm with roughness r (the library's graphs were converted from
+// fbm so: their default look must not change), and its gradient holds where rows run in
+// parallel (the checks above use 32 px maps, which run serially).
+TEST(Graph_Nodes, fbm_bands_reproduces_fbm_and_its_parallel_gradient) {
+  auto graphWith = [](const std::string& noise) {
+    const std::string s = R"({"name":"x","category":"paint","nodes":[)" + noise +
+                          R"(,{"id":"c","type":"uniform_color"},
+      {"id":"n","type":"normal","inputs":{"height":"f"}}],
+      "outputs":{"albedo":"c","normal":"n","roughness":"f"}})";
+    return ps::MaterialGraph::fromString(s, "x.json");
+  };
+  auto fbm = graphWith(
+      R"({"id":"f","type":"fbm","params":{"scale_x":3,"scale_y":5,"octaves":6,"roughness":0.7,"seed":17}})");
+  std::string bands =
+      R"({"id":"f","type":"fbm_bands","params":{"scale_x":3,"scale_y":5,"octaves":6,"seed":17)";
+  for (int k = 0; k < 6; ++k)
+    bands += ",\"band_" + std::to_string(k) + "\":" + std::to_string(std::pow(0.7, k));
+  auto fb = graphWith(bands + "}}");
+  const cv::Mat a = fbm.evaluate(256).roughness, b = fb.evaluate(256).roughness;
+  EXPECT_LT(cv::norm(a, b, cv::NORM_INF), 1e-5);
+  EXPECT_GT(meanAbs(a - 0.5), 0.02);  // not flat
+
+  ps::GradientCheckOptions o;
+  o.size = 256;
+  o.absTol = 1e-4;
+  std::vector<float> v;
+  for (const auto& p : ps::nodeCatalog())
+    if (p.name == "fbm_bands")
+      for (const auto& q : p.params) v.push_back(q.defaultValue[0]);
+  ASSERT_FALSE(v.empty());
+  const auto rep = ps::checkNodeGradients("fbm_bands", v, o);
+  EXPECT_TRUE(rep.ok()) << rep.summary();
+}
+
 // ------------------------------------------------------------------ library
 TEST(Graph_Library, has_40_valid_graphs_in_spec_categories) {
   const auto& l = lib();
@@ -122,6 +156,31 @@ TEST(Graph_Library, env_var_and_argument_choose_the_folder) {
   EXPECT_THROW(ps::GraphLibrary::load(dir + "/missing"), ps::InputError);
   EXPECT_THROW(lib().get("no_such_graph"), ps::InputError);
   EXPECT_NE(lib().contentHash(), l.contentHash());
+}
+
+// `draw_spread` scales how far random draws move a parameter: 0 keeps it at its default in every
+// draw, 1 (the default) lets it roam its range; anything outside [0, 1] is an input error.
+TEST(Graph_Format, draw_spread_scales_the_random_draws) {
+  auto graph = [](const std::string& spread) {
+    return ps::MaterialGraph::fromString(
+        R"({"name":"x","category":"paint","nodes":[{"id":"c","type":"uniform_color"},
+        {"id":"r","type":"uniform_gray","params":{"value":0.5}},
+        {"id":"n","type":"normal","inputs":{"height":"r"}}],
+        "parameters":[{"name":"level","targets":["r.value"])" +
+            spread + R"(}],
+        "outputs":{"albedo":"c","normal":"n","roughness":"r"}})",
+        "s.json");
+  };
+  const auto held = graph(",\"draw_spread\":0"), free = graph("");
+  double movedHeld = 0, movedFree = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    movedHeld += std::abs(held.randomValues(seed, 0.6f)[0] - 0.5f);
+    movedFree += std::abs(free.randomValues(seed, 0.6f)[0] - 0.5f);
+  }
+  EXPECT_EQ(movedHeld, 0.0);
+  EXPECT_GT(movedFree / 20, 0.05);
+  EXPECT_THROW(graph(",\"draw_spread\":1.5"), ps::InputError);
+  EXPECT_THROW(graph(",\"draw_spread\":\"x\""), ps::InputError);
 }
 
 TEST(Graph_Format, bad_files_are_input_errors) {

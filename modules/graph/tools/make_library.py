@@ -15,8 +15,11 @@ class G:
     def __init__(self, name, category, description):
         self.name, self.category, self.description = name, category, description
         self.nodes, self.params, self.outputs = [], [], {}
+        self.bands = []  # (fbm_bands node id, octaves) whose amplitudes done() exposes
 
     def n(self, id, type, inputs=None, **params):
+        if type == 'fbm':
+            type, params = 'fbm_bands', fbm_as_bands(id, params, self.bands)
         node = {'id': id, 'type': type}
         if params:
             node['params'] = params
@@ -40,11 +43,30 @@ class G:
         self.outputs.update(o)
 
     def done(self):
+        for id, octaves in self.bands:
+            if octaves < 2:
+                continue  # one octave: its amplitude cancels in the normalisation
+            for k in range(octaves):
+                self.p('grain_%s_%d' % (id, k), '%s.band_%d' % (id, k), min=0.0, max=1.0, draw_spread=0.25,
+                       doc='amplitude of octave %d of noise %s (relative to its other octaves)' % (k, id))
         GRAPHS.append(self)
 
     def json(self):
         return {'name': self.name, 'category': self.category, 'description': self.description,
                 'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
+
+
+def fbm_as_bands(id, params, bands):
+    """An fbm node's parameters as fbm_bands' (band_k = roughness^k: the same noise), the node
+    recorded in `bands` so that the fit can shape each octave's amplitude (issue 18: the
+    photographs' spectra are not the power law that one roughness gives)."""
+    octaves, r = params.get('octaves', 5), params.get('roughness', 0.5)
+    out = {'scale_x': params.get('scale_x', 4), 'scale_y': params.get('scale_y', 4), 'octaves': octaves,
+           'seed': params.get('seed', 0)}
+    for k in range(octaves):
+        out['band_%d' % k] = r ** k
+    bands.append((id, octaves))
+    return out
 
 
 def pixel_phase(t):

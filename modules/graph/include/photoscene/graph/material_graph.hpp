@@ -83,6 +83,10 @@ struct GraphParameter {
   float min = 0.f, max = 1.f;         ///< inclusive range of every component
   std::vector<float> defaultValue;    ///< dim values
   std::vector<std::string> choices;   ///< names of the choices (kind == Choice)
+  /// How far randomValues moves this parameter from its default, relative to the draw's spread
+  /// (file key `draw_spread`, [0, 1]): 0 keeps a fitting freedom (an octave's amplitude) out of
+  /// the draws that stand for the graph's look; the fit's range stays [min, max].
+  float drawSpread = 1.f;
   int offset = 0;                     ///< first index in the flat value vector
   bool differentiable() const { return kind == ParameterKind::Continuous; }
 };
@@ -134,8 +138,9 @@ class MaterialGraph {
   /// 1 for every index of a continuous parameter, else 0.
   std::vector<uint8_t> differentiableMask() const;
 
-  /// A random draw: each value = lerp(default, uniform sample in its range, spread); discrete
-  /// parameters take a uniform sample with probability `spread`, else their default. Colours
+  /// A random draw: each value = lerp(default, uniform sample in its range, spread x its
+  /// drawSpread); discrete parameters take a uniform sample with probability spread x drawSpread,
+  /// else their default. Colours
   /// vary around their default in Oklab: lightness x exp(+-0.35 spread shared by all colours of
   /// the draw +-0.12 spread per colour), chroma x exp(+-0.3 spread shared +-0.12 spread own), hue
   /// turned by +-0.2 spread shared +-0.08 spread own radians, so draws stay plausible materials
