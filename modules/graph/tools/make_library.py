@@ -434,6 +434,11 @@ tile_graph('tile_terracotta', 'Terracotta floor tiles, warm and uneven.', 'grid'
            [0.55, 0.22, 0.1], [0.45, 0.42, 0.38], 0.07, 0.08, 0.6, rough=(0.6, 0.7))
 tile_graph('tile_mosaic', 'Small square glass mosaic with varied blue-green tiles.', 'grid', 24, 24,
            [0.18, 0.42, 0.5], [0.7, 0.7, 0.68], 0.12, 0.12, 0.8, rough=(0.08, 0.15), noise_scale=2)
+# issue 18: narrow glazed strips in rows that do not line up (polyhaven floor_long_white_tiles, the
+# blender-room example's floor): 5 rows of 16 per tile, about 1:3.2, each row shifted at random
+tile_graph('tile_stack_narrow', 'Narrow glazed porcelain strips (about 1:3) in rows shifted at random, '
+           'cream with beige grout.', 'planks', 5, 16, [0.86, 0.84, 0.78], [0.6, 0.54, 0.42], 0.04, 0.03, 0.1,
+           rough=(0.2, 0.3))
 
 
 def checker_tiles():
@@ -1495,6 +1500,35 @@ def concrete_blocks():
 
 
 concrete_blocks()
+
+
+def ribbed_panels():
+    # issue 18: precast facade panels with fine vertical ribs (polyhaven exterior_concrete_tile_facade,
+    # the blender-room example's west wall): 2 rows of 1 panel per tile, 40 soft ribs across it (3 px
+    # apart at 128 px per tile, the fit's map size: more ribs alias there), a dark grey mottled face
+    # with sparse light specks
+    g = G('concrete_ribbed_panels', 'concrete', 'Precast concrete facade panels with fine vertical ribs, '
+          'dark grey, thin joints.')
+    g.n('t', 'tile', layout='grid', rows=2, cols=1, row_offset=0.0, gap=0.015, bevel=0.015, lum_var=0.15, seed=611)
+    g.p('joint_width', 't.gap', min=0.0, max=0.06)
+    g.p('panel_variation', 't.lum_var')
+    g.n('rib', 'stripes', count=40, direction='u', width=0.5, softness=0.35)
+    g.p('rib_width', 'rib.width', min=0.2, max=0.8)
+    g.n('f', 'fbm', scale_x=24, scale_y=24, octaves=6, roughness=0.6, seed=612)
+    g.n('sp', 'white_noise', scale=256, seed=613)
+    g.n('spk', 'histogram_scan', {'in': 'sp'}, position=0.03, contrast=0.9)
+    g.p('speck_amount', 'spk.position', min=0.0, max=0.1)
+    blend(g, 'face', 'f', 't.random', mode='overlay', opacity=0.5)
+    blend(g, 'ribbed', 'rib', 'face', param='rib_shading', mode='multiply', opacity=0.35, min=0.0, max=0.8)
+    blend(g, 'm', 'spk', 'ribbed', param='speck_strength', mode='screen', opacity=0.3)
+    colors3(g, 'col', 'm', [0.035, 0.037, 0.04], [0.07, 0.072, 0.078], [0.13, 0.13, 0.135], 0.5, 'panel')
+    over_ground(g, 'col', 'jc', [0.05, 0.05, 0.052], 'joint_color', 't.height')
+    g.n('hr', 'blend', {'fg': 'rib', 'bg': 't.height'}, mode='multiply', opacity=0.3)
+    g.p('rib_depth', 'hr.opacity', min=0.0, max=0.8)
+    finish(g, 'hr', rough_range(g, 'f', 0.7, 0.85), 'alb', 0.01, shift=(0.5, 0.25))
+
+
+ribbed_panels()
 
 
 def hex_pavers():
