@@ -166,9 +166,13 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
   // lightness and chroma mostly shared too, so colour ramps keep their order and contrast
   const float sharedLight = spread * 0.35f * (rh.uniform() * 2.f - 1.f);
   const float sharedChroma = spread * 0.3f * (rh.uniform() * 2.f - 1.f);
+  // each parameter draws from its own stream; a parameter the draws never move (drawSpread 0)
+  // takes none, so adding one to a graph leaves every other parameter's draw as it was
+  uint64_t stream = 0;
   for (size_t i = 0; i < parameters().size(); ++i) {
     const auto& p = parameters()[i];
-    Rng r = rng.split(i);
+    if (p.drawSpread <= 0.f && p.name != "albedo_offset") continue;
+    Rng r = rng.split(stream++);
     if (p.name == "albedo_offset") {
       // mostly a gray shift: a per-channel offset turns dark materials green or pink
       const float gray = (r.uniform() * 0.12f - 0.06f) * spread;

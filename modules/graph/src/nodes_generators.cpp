@@ -306,7 +306,7 @@ struct Fbm {
 /// fbm whose octaves each have their own amplitude (a radial power spectrum in octave steps that
 /// the fit shapes freely, where fbm's one `roughness` can only tilt a power law). Octave k has
 /// scale << k cells per unit; out = 0.5 + 0.9 s / q with s = sum_k a_k v_k and q = sqrt(sum_k
-/// a_k^2 + eps), so the output's spread does not depend on the amplitudes' common level (the
+/// a_k^2), so the output's spread does not depend on the amplitudes' common level (the
 /// ramps after it set the contrast) and only their ratios shape the look.
 struct FbmBands {
   static constexpr int kBands = 8;
@@ -329,12 +329,13 @@ struct FbmBands {
     return d;
   }
   static constexpr double kGain = 0.9;
-  static constexpr double kEps = 1e-6;
+  // q^2 as fbm computes it (the same floor), so that band_k = roughness^k gives fbm's maps to the
+  // bit where the amplitudes are the same floats
   template <class T>
   static T norm2(const NodeCtx<T>& c, int K) {
-    T q2 = T(kEps);
+    T q2 = 0;
     for (int k = 0; k < K; ++k) q2 += c.P(kBand0 + k) * c.P(kBand0 + k);
-    return q2;
+    return std::max(q2, T(1e-12));
   }
   template <class T>
   static int octaves(const NodeCtx<T>& c) {

@@ -5,7 +5,7 @@ The JSON files are the data the engine reads (format: ../FORMAT.md); this script
 convenience for maintainers. Users add graphs by writing JSON directly.
 Run: python3 modules/graph/tools/make_library.py
 """
-import json, os
+import json, os, struct
 
 OUT = os.path.join(os.path.dirname(__file__), '..', 'library')
 GRAPHS = []
@@ -47,13 +47,18 @@ class G:
             if octaves < 2:
                 continue  # one octave: its amplitude cancels in the normalisation
             for k in range(octaves):
-                self.p('grain_%s_%d' % (id, k), '%s.band_%d' % (id, k), min=0.0, max=1.0, draw_spread=0.25,
+                self.p('grain_%s_%d' % (id, k), '%s.band_%d' % (id, k), min=0.0, max=1.0, draw_spread=0.0,
                        doc='amplitude of octave %d of noise %s (relative to its other octaves)' % (k, id))
         GRAPHS.append(self)
 
     def json(self):
         return {'name': self.name, 'category': self.category, 'description': self.description,
                 'nodes': self.nodes, 'parameters': self.params, 'outputs': self.outputs}
+
+
+def f32(x):
+    """x rounded to the nearest 32-bit float (the engine's parameter type)."""
+    return struct.unpack('f', struct.pack('f', x))[0]
 
 
 def fbm_as_bands(id, params, bands):
@@ -63,8 +68,12 @@ def fbm_as_bands(id, params, bands):
     octaves, r = params.get('octaves', 5), params.get('roughness', 0.5)
     out = {'scale_x': params.get('scale_x', 4), 'scale_y': params.get('scale_y', 4), 'octaves': octaves,
            'seed': params.get('seed', 0)}
+    # the amplitudes as fbm's kernel computes them in float (amp_k = amp_(k-1) * r, each product
+    # rounded to float), so that the converted node gives fbm's maps to the bit
+    amp = f32(1.0)
     for k in range(octaves):
-        out['band_%d' % k] = r ** k
+        out['band_%d' % k] = amp
+        amp = f32(amp * f32(r))
     bands.append((id, octaves))
     return out
 

@@ -274,6 +274,17 @@ class PartFitter {
         hi_[p.offset + k] = p.max;
       }
     mask_ = graph_->differentiableMask();
+    for (const GraphParameter& p : params)
+      if (isHeld(p.name, o.heldParameters))
+        std::fill_n(mask_.begin() + p.offset, p.dim, uint8_t(0));
+  }
+
+  static bool isHeld(const std::string& name, const std::vector<std::string>& held) {
+    for (const std::string& h : held) {
+      const bool prefix = !h.empty() && h.back() == '*';
+      if (prefix ? name.compare(0, h.size() - 1, h, 0, h.size() - 1) == 0 : name == h) return true;
+    }
+    return false;
   }
 
   using Eval = PartFitLosses;

@@ -405,6 +405,38 @@ TEST(Optim_PartFit, on_progress_sees_every_step_and_the_searches_and_stops_the_f
   }
 }
 
+// heldParameters: a named parameter and every parameter a "prefix*" names stay at their start
+// values to the bit, while the others move (selection's short fits hold the octave amplitudes).
+TEST(Optim_PartFit, held_parameters_stay_at_their_start) {
+  const GraphLibrary lib = GraphLibrary::load();
+  MaterialGraph truth = lib.create("wood_planks");
+  truth.setValues(truthValues(truth, 5, 0.3f));
+  Synthetic s = makeSynthetic(truth, UvParams{}, 64, 48, 16, 8, 4);
+  const Room& room = s.room;
+  const PartGeometry geo =
+      preparePartGeometry(s.view.gbuffer, room.camera.position().cast<float>(), s.view.grid,
+                          s.view.gbuffer.mask[room.floor], room.floor);
+  const TextureLossTarget target(s.photo, s.view.gbuffer.mask[room.floor]);
+  const MaterialGraph& start = lib.get("wood_planks");
+  std::vector<std::string> grains;
+  for (const GraphParameter& p : start.parameters())
+    if (p.name.rfind("grain_", 0) == 0) grains.push_back(p.name);
+  ASSERT_FALSE(grains.empty());  // the library's fbm octaves
+  PartFitOptions o = PartFitOptions::preset("fast");
+  o.maxIterations = 12;
+  o.heldParameters = {"grain_*", "wood_light"};
+  const PartFitResult r = fitPart(start, geo, s.photo, target, o);
+  MaterialGraph fitted = start.clone();
+  fitted.setValues(r.values);
+  for (const std::string& name : grains)
+    EXPECT_EQ(fitted.parameter(name), start.parameter(name)) << name;
+  EXPECT_EQ(fitted.parameter("wood_light"), start.parameter("wood_light"));
+  int moved = 0;
+  for (const GraphParameter& p : start.parameters())
+    moved += p.differentiable() && fitted.parameter(p.name) != start.parameter(p.name);
+  EXPECT_GE(moved, 3);
+}
+
 TEST(Optim_PartFit, recovers_uv_scale_within_15_percent) {
   const Recovery r = runRecovery();
   EXPECT_NEAR(r.scaleRatio, 1.0, 0.15);

@@ -304,6 +304,7 @@ SynthesisChoice chooseBySynthesis(const GraphLibrary& library, const std::vector
     o.maxIterations = options.steps;
     o.fineIterations = std::min(o.fineIterations, options.steps / 3);
     o.restarts = 0;
+    o.heldParameters = options.heldParameters;
     MaterialGraph graph = library.create(f.graph);
     if (options.startFromNearestDraw && bank && f.draw > 0 && f.graph != kHomogeneous)
       graph.setValues(bankDrawValues(graph, *bank, f.draw));

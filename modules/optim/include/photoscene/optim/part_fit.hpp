@@ -110,6 +110,10 @@ struct PartFitOptions {
   /// as a whole but not spend its colours on the photo's colour moments apart (pink and olive
   /// bricks, red and brown wood stripes).
   float paletteWeight = 0.0f;
+  /// Graph parameters kept at their start values: names, or a prefix followed by '*' ("grain_*":
+  /// the library's octave amplitudes). Selection's short fits hold the octaves, so a finalist is
+  /// judged at its designed grain (graph/README.md, "Coverage").
+  std::vector<std::string> heldParameters;
   /// A line search over the held roughness (this many values log-spaced over its allowed range,
   /// with the state's maps and UV transform, at full resolution) before the fine steps (or after
   /// the steps without a coarse phase); < 2 = none. The Adam steps alone moved the one scalar
