@@ -127,7 +127,9 @@ void hashOption(Hasher& h, const RunInputs& in, const std::string& name) {
           .add(s.heldOut)
           .add(s.minHeldOutPixels)
           .add(s.bandShape.value_or(-1.0f))
-          .add(s.textureRequired);
+          .add(s.textureRequired)
+          .add(s.heldParameters.size());
+      for (const std::string& held : s.heldParameters) h.add(std::string_view(held));
     } else {
       h.add(0);
     }

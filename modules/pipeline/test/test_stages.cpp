@@ -316,12 +316,14 @@ TEST_F(Stages_Keys, each_selection_setting_changes_the_keys_of_the_stages_that_r
       {"coarseContrastScale", [](SynthesisOptions& s) { s.coarseContrastScale += 1; }},
       {"maxChromaRatio", [](SynthesisOptions& s) { s.maxChromaRatio += 0.1; }},
       {"maxChromaOutside", [](SynthesisOptions& s) { s.maxChromaOutside += 0.01; }},
-      {"startFromNearestDraw", [](SynthesisOptions& s) { s.startFromNearestDraw = !s.startFromNearestDraw; }},
+      {"startFromNearestDraw",
+       [](SynthesisOptions& s) { s.startFromNearestDraw = !s.startFromNearestDraw; }},
       {"warmStartFit", [](SynthesisOptions& s) { s.warmStartFit = !s.warmStartFit; }},
       {"heldOut", [](SynthesisOptions& s) { s.heldOut = !s.heldOut; }},
       {"minHeldOutPixels", [](SynthesisOptions& s) { s.minHeldOutPixels += 1; }},
       {"bandShape", [](SynthesisOptions& s) { s.bandShape = 2.0f; }},
-      {"textureRequired", [](SynthesisOptions& s) { s.textureRequired = !s.textureRequired; }}};
+      {"textureRequired", [](SynthesisOptions& s) { s.textureRequired = !s.textureRequired; }},
+      {"heldParameters", [](SynthesisOptions& s) { s.heldParameters.clear(); }}};
   inputs().options.selection = SynthesisOptions{};
   const StageKeys base = runner_->keys(*ctx_);
   for (const auto& [name, edit] : edits) {
