@@ -168,10 +168,11 @@ std::vector<float> MaterialGraph::randomValues(uint64_t seed, float spread) cons
   const float sharedChroma = spread * 0.3f * (rh.uniform() * 2.f - 1.f);
   // each parameter draws from its own stream; a parameter the draws never move (drawSpread 0)
   // takes none, so adding one to a graph leaves every other parameter's draw as it was
+  // (albedo_offset keeps the default spread of 1)
   uint64_t stream = 0;
   for (size_t i = 0; i < parameters().size(); ++i) {
     const auto& p = parameters()[i];
-    if (p.drawSpread <= 0.f && p.name != "albedo_offset") continue;
+    if (p.drawSpread <= 0.f) continue;
     Rng r = rng.split(stream++);
     if (p.name == "albedo_offset") {
       // mostly a gray shift: a per-channel offset turns dark materials green or pink

@@ -216,6 +216,33 @@ struct PerlinOctave {
   }
 };
 
+/// The octaves of a Perlin sum: octave k has (sx << k, sy << k) cells per unit and seed
+/// seed * 131 + k (fbm and fbm_bands draw the same octaves).
+template <class T>
+std::vector<PerlinOctave<T>> perlinOctaves(int n, int sx, int sy, int K, uint32_t seed) {
+  std::vector<PerlinOctave<T>> oct(K);
+  for (int k = 0; k < K; ++k) oct[k].init(n, sx << k, sy << k, seed * 131u + k);
+  return oct;
+}
+
+/// Calls body(y, octave) for every pixel row y, rows split between threads; octave(k) returns
+/// octave k's row y (computed on demand, so a body that skips an octave does not pay for it).
+template <class T, class F>
+void forOctaveRows(int n, const std::vector<PerlinOctave<T>>& oct, F&& body) {
+  const int K = static_cast<int>(oct.size());
+  forRowRanges(n, [&](int y0, int y1) {
+    std::vector<typename PerlinOctave<T>::Rows> rows(K);
+    std::vector<T> v(n);
+    for (int y = y0; y < y1; ++y) {
+      auto octave = [&](int k) -> const T* {
+        oct[k].row(v.data(), y, rows[k]);
+        return v.data();
+      };
+      body(y, octave);
+    }
+  });
+}
+
 struct Fbm {
   enum { kScaleX, kScaleY, kOctaves, kRoughness, kSeed };
   static NodeTypeDesc desc() {
@@ -256,30 +283,24 @@ struct Fbm {
     S.resize(2);
     S[0].create(n, 1);
     S[1].create(n, 1);
-    const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
-    std::vector<PerlinOctave<T>> oct(K);
-    for (int k = 0; k < K; ++k)
-      oct[k].init(n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
+    const auto oct =
+        perlinOctaves<T>(n, c.I(kScaleX), c.I(kScaleY), K, static_cast<uint32_t>(c.I(kSeed)));
     const T gq = T(kGain) / q;
-    forRowRanges(n, [&](int y0, int y1) {
-      std::vector<typename PerlinOctave<T>::Rows> rows(K);
-      std::vector<T> v(n);
-      for (int y = y0; y < y1; ++y) {
-        T* s = S[0].row(y);
-        T* ds = S[1].row(y);
-        std::fill(s, s + n, T(0));
-        std::fill(ds, ds + n, T(0));
-        for (int k = 0; k < K; ++k) {
-          oct[k].row(v.data(), y, rows[k]);
-          const T a = amp[k], da = damp[k];
-          for (int x = 0; x < n; ++x) {
-            s[x] += a * v[x];
-            ds[x] += da * v[x];
-          }
+    forOctaveRows(n, oct, [&](int y, auto&& octave) {
+      T* s = S[0].row(y);
+      T* ds = S[1].row(y);
+      std::fill(s, s + n, T(0));
+      std::fill(ds, ds + n, T(0));
+      for (int k = 0; k < K; ++k) {
+        const T* v = octave(k);
+        const T a = amp[k], da = damp[k];
+        for (int x = 0; x < n; ++x) {
+          s[x] += a * v[x];
+          ds[x] += da * v[x];
         }
-        T* o = c.out[0]->row(y);
-        for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
       }
+      T* o = c.out[0]->row(y);
+      for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
     });
   }
   template <class T>
@@ -343,11 +364,7 @@ struct FbmBands {
   }
   template <class T>
   static std::vector<PerlinOctave<T>> makeOctaves(const NodeCtx<T>& c, int K) {
-    std::vector<PerlinOctave<T>> oct(K);
-    const uint32_t seed = static_cast<uint32_t>(c.I(kSeed));
-    for (int k = 0; k < K; ++k)
-      oct[k].init(c.n, c.I(kScaleX) << k, c.I(kScaleY) << k, seed * 131u + k);
-    return oct;
+    return perlinOctaves<T>(c.n, c.I(kScaleX), c.I(kScaleY), K, static_cast<uint32_t>(c.I(kSeed)));
   }
   // scratch: [0] = s (backward regenerates the octaves: K planes kept from forward would cost K
   // times a map's memory at the export's texture size)
@@ -359,20 +376,16 @@ struct FbmBands {
     S.resize(1);
     S[0].create(n, 1);
     const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
-    forRowRanges(n, [&](int y0, int y1) {
-      std::vector<typename PerlinOctave<T>::Rows> rows(K);
-      std::vector<T> v(n);
-      for (int y = y0; y < y1; ++y) {
-        T* s = S[0].row(y);
-        std::fill(s, s + n, T(0));
-        for (int k = 0; k < K; ++k) {
-          oct[k].row(v.data(), y, rows[k]);
-          const T a = c.P(kBand0 + k);
-          for (int x = 0; x < n; ++x) s[x] += a * v[x];
-        }
-        T* o = c.out[0]->row(y);
-        for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
+    forOctaveRows(n, oct, [&](int y, auto&& octave) {
+      T* s = S[0].row(y);
+      std::fill(s, s + n, T(0));
+      for (int k = 0; k < K; ++k) {
+        const T* v = octave(k);
+        const T a = c.P(kBand0 + k);
+        for (int x = 0; x < n; ++x) s[x] += a * v[x];
       }
+      T* o = c.out[0]->row(y);
+      for (int x = 0; x < n; ++x) o[x] = T(0.5) + gq * s[x];
     });
   }
   // d out / d a_j = G (v_j / q - s a_j / q^3); the sums over pixels are kept per row and added in
@@ -385,19 +398,15 @@ struct FbmBands {
     const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
     std::vector<T> perRow(static_cast<size_t>(n) * (K + 1),
                           T(0));  // [y][k] sum g v_k, [y][K] sum g s
-    forRowRanges(n, [&](int y0, int y1) {
-      std::vector<typename PerlinOctave<T>::Rows> rows(K);
-      std::vector<T> v(n);
-      for (int y = y0; y < y1; ++y) {
-        const T* g = c.dOut[0]->row(y);
-        const T* s = (*c.scratch)[0].row(y);
-        T* acc = &perRow[static_cast<size_t>(y) * (K + 1)];
-        for (int x = 0; x < n; ++x) acc[K] += g[x] * s[x];
-        for (int k = 0; k < K; ++k) {
-          if (!c.wantP(kBand0 + k)) continue;
-          oct[k].row(v.data(), y, rows[k]);
-          for (int x = 0; x < n; ++x) acc[k] += g[x] * v[x];
-        }
+    forOctaveRows(n, oct, [&](int y, auto&& octave) {
+      const T* g = c.dOut[0]->row(y);
+      const T* s = (*c.scratch)[0].row(y);
+      T* acc = &perRow[static_cast<size_t>(y) * (K + 1)];
+      for (int x = 0; x < n; ++x) acc[K] += g[x] * s[x];
+      for (int k = 0; k < K; ++k) {
+        if (!c.wantP(kBand0 + k)) continue;
+        const T* v = octave(k);
+        for (int x = 0; x < n; ++x) acc[k] += g[x] * v[x];
       }
     });
     std::vector<T> sum(K + 1, T(0));

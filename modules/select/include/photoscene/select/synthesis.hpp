@@ -44,11 +44,6 @@ struct SynthesisOptions {
   int voteK = 60;           ///< neighbours in the vote that lists the finalists (a longer list)
   bool homogeneous = true;  ///< the homogeneous material is a finalist (model selection)
   double textureMargin = 0.05;  ///< a graph must beat the homogeneous loss by this fraction
-  /// Graph parameters the short fits hold at their start (PartFitOptions::heldParameters): the
-  /// library's octave amplitudes. A finalist is judged at its designed grain, as before the
-  /// octaves were parameters (with them free, a plank floor's short fit of `wood_planks` raised
-  /// its grain past the contrast test and `tile_checker` won); the final fit then fits them.
-  std::vector<std::string> heldParameters = {"grain_*"};
   /// ... and its render must not miss the photo's pixels by more than this times the homogeneous
   /// material's masked RMSE (0: no such test). A texture with the photo's statistics but not
   /// aligned to it doubles the pixel variance (RMSE x sqrt 2 at most, less where the photo has
@@ -93,6 +88,11 @@ struct SynthesisOptions {
   /// turning it down there hands the part to the next textured finalist, not to the flat
   /// material. The finalists' shares are reported (SynthesisFinalist::chromaOutside).
   double maxChromaOutside = 0.1;
+  /// Graph parameters the short fits hold at their start (PartFitOptions::heldParameters): the
+  /// library's octave amplitudes. A finalist is judged at its designed grain, as before the
+  /// octaves were parameters (with them free, a plank floor's short fit of `wood_planks` raised
+  /// its grain past the contrast test and `tile_checker` won); the final fit then fits them.
+  std::vector<std::string> heldParameters = {"grain_*"};
   /// Model selection on held-back pixels (issue 17, item 4): the part's pixels are cut in two
   /// halves across its longest extent; every finalist (the homogeneous one too) is fitted on each
   /// half and scored on the other by the loss's data terms (PartFitResult::lossData), and its
