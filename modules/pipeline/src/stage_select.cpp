@@ -41,8 +41,9 @@ class SelectStage : public Stage {
     // chroma_outside; the fit stage judges the full fit by it, SynthesisOptions::maxChromaOutside);
     // 14: the finalists' short fits weigh the spectral shape (SynthesisOptions::bandShape); 15:
     // a part's given category (`parts.<name>.category`) restricts the vote and the finalists; 16:
-    // weighed against the homogeneous material unless SynthesisOptions::textureRequired
-    decl.version = 16;
+    // weighed against the homogeneous material unless SynthesisOptions::textureRequired; 17: a
+    // given category's finalists include its graphs no neighbour voted for (nearest row first)
+    decl.version = 17;
   }
 
   bool applies(const Context& ctx, int u) const override {

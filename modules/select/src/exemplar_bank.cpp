@@ -622,7 +622,31 @@ GraphChoice ExemplarBank::selectInCategory(const std::vector<float>& key, int k,
     r.index.push_back(near[i].second);
     r.distance.push_back(near[i].first);
   }
-  return vote(r, false);
+  GraphChoice choice = vote(r, false);
+  // then the category's graphs no neighbour voted for, by their nearest row (weight 0): the
+  // finalists are the list's first graphs, and a vote that one graph's draws fill (a plain wall
+  // near one low-contrast concrete) would leave a single finalist of the category to weigh
+  std::map<int, std::pair<float, int>> nearestOf;  // graph -> (distance, row) of its nearest row
+  for (const auto& [dist, row] : near) {
+    const int g = exemplars_[row].graph;
+    auto it = nearestOf.find(g);
+    if (it == nearestOf.end() || std::make_pair(dist, row) < it->second) nearestOf[g] = {dist, row};
+  }
+  std::vector<std::pair<std::pair<float, int>, int>> rest;  // ((distance, row), graph)
+  for (const auto& [g, dr] : nearestOf) {
+    const bool voted = std::any_of(choice.votes.begin(), choice.votes.end(),
+                                   [&](const GraphVote& v) { return v.graph == graphNames_[g]; });
+    if (!voted) rest.push_back({dr, g});
+  }
+  std::sort(rest.begin(), rest.end());
+  for (const auto& [dr, g] : rest) {
+    GraphVote v;
+    v.graph = graphNames_[g];
+    v.category = categories_[g];
+    v.nearestDraw = exemplars_[dr.second].draw;
+    choice.votes.push_back(v);
+  }
+  return choice;
 }
 
 GraphChoice ExemplarBank::vote(const KnnResult& r, bool categoryFirst) const {

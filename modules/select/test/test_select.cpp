@@ -254,6 +254,35 @@ TEST(Select_Bank, a_vote_within_a_category_is_the_nearest_rows_of_that_category)
     }
     EXPECT_EQ(votes, k);
     EXPECT_EQ(c.category, category);
+    // every graph of the category is listed once; those without a vote follow the voted ones,
+    // nearest row first, each with the draw of that row
+    std::map<std::string, std::pair<double, int>> nearestOf;  // graph -> (distance, its draw)
+    for (int r = 0; r < b.rows(); ++r) {
+      const int g = b.exemplars()[r].graph;
+      if (b.categories()[g] != category) continue;
+      double d = 0;
+      for (int j = 0; j < b.indexDim(); ++j)
+        d += std::pow(q[j] - b.keys()[static_cast<size_t>(r) * b.indexDim() + j], 2);
+      const std::string& name = b.graphNames()[g];
+      if (!nearestOf.count(name) || std::sqrt(d) < nearestOf[name].first)
+        nearestOf[name] = {std::sqrt(d), b.exemplars()[r].draw};
+    }
+    ASSERT_EQ(c.votes.size(), nearestOf.size()) << category;
+    std::set<std::string> listed;
+    double previous = -1;
+    for (size_t i = 0; i < c.votes.size(); ++i) {
+      const GraphVote& v = c.votes[i];
+      EXPECT_TRUE(listed.insert(v.graph).second) << v.graph;
+      if (v.count > 0) {
+        EXPECT_GT(v.weight, 0.0);
+        EXPECT_TRUE(i == 0 || c.votes[i - 1].count > 0) << "a voted graph after an unvoted one";
+        continue;
+      }
+      EXPECT_EQ(v.weight, 0.0);
+      EXPECT_EQ(v.nearestDraw, nearestOf[v.graph].second) << v.graph;
+      EXPECT_GE(nearestOf[v.graph].first, previous - 1e-4) << v.graph;
+      previous = nearestOf[v.graph].first;
+    }
   }
   // the unrestricted vote's nearest row is the nearest of its own category
   const GraphChoice any = b.select(key, k);

@@ -210,7 +210,10 @@ class ExemplarBank {
                      bool distinctDraws = false) const;
   /// The same vote among the exemplars of one category only (`parts.<name>.category`: the user
   /// knows the part is wood, the vote picks which wood graph): the k nearest rows of that
-  /// category by exact search in the indexed key space, whatever the index type. Throws
+  /// category by exact search in the indexed key space, whatever the index type. The votes list
+  /// every graph of the category: those no neighbour voted for follow, weight 0, ordered by
+  /// their nearest row (so that the finalists are several of the category's graphs even where
+  /// one graph's draws fill the k nearest rows). Throws
   /// ps::Exception for a category no graph of the bank has.
   GraphChoice selectInCategory(const std::vector<float>& key, int k,
                                const std::string& category) const;
