@@ -366,21 +366,30 @@ struct FbmBands {
   static std::vector<PerlinOctave<T>> makeOctaves(const NodeCtx<T>& c, int K) {
     return perlinOctaves<T>(c.n, c.I(kScaleX), c.I(kScaleY), K, static_cast<uint32_t>(c.I(kSeed)));
   }
-  // scratch: [0] = s (backward regenerates the octaves: K planes kept from forward would cost K
-  // times a map's memory at the export's texture size)
+  /// Octave planes kept from forward for backward up to this many values (K n^2; 256 px maps
+  /// with 8 octaves, a fit's size, are kept); above it (an export's texture size, where K planes
+  /// would cost K times a map's memory) backward regenerates the octaves. Both give the same
+  /// values.
+  static constexpr size_t kKeepOctaveValues = size_t(1) << 19;
+  static bool keepsOctaves(int n, int K) {
+    return size_t(K) * size_t(n) * size_t(n) <= kKeepOctaveValues;
+  }
+  // scratch: [0] = s, then the K octave planes where keepsOctaves
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n, K = octaves(c);
     const T gq = T(kGain) / std::sqrt(norm2(c, K));
+    const bool keep = keepsOctaves(n, K);
     auto& S = *c.scratch;
-    S.resize(1);
-    S[0].create(n, 1);
+    S.resize(keep ? 1 + K : 1);
+    for (auto& plane : S) plane.create(n, 1);
     const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
     forOctaveRows(n, oct, [&](int y, auto&& octave) {
       T* s = S[0].row(y);
       std::fill(s, s + n, T(0));
       for (int k = 0; k < K; ++k) {
         const T* v = octave(k);
+        if (keep) std::copy(v, v + n, S[1 + k].row(y));
         const T a = c.P(kBand0 + k);
         for (int x = 0; x < n; ++x) s[x] += a * v[x];
       }
@@ -395,12 +404,12 @@ struct FbmBands {
     if (!c.needParamGrad) return;
     const int n = c.n, K = octaves(c);
     const T q2 = norm2(c, K), q = std::sqrt(q2);
-    const std::vector<PerlinOctave<T>> oct = makeOctaves(c, K);
+    const auto& S = *c.scratch;
     std::vector<T> perRow(static_cast<size_t>(n) * (K + 1),
                           T(0));  // [y][k] sum g v_k, [y][K] sum g s
-    forOctaveRows(n, oct, [&](int y, auto&& octave) {
+    auto accumulate = [&](int y, auto&& octave) {
       const T* g = c.dOut[0]->row(y);
-      const T* s = (*c.scratch)[0].row(y);
+      const T* s = S[0].row(y);
       T* acc = &perRow[static_cast<size_t>(y) * (K + 1)];
       for (int x = 0; x < n; ++x) acc[K] += g[x] * s[x];
       for (int k = 0; k < K; ++k) {
@@ -408,7 +417,13 @@ struct FbmBands {
         const T* v = octave(k);
         for (int x = 0; x < n; ++x) acc[k] += g[x] * v[x];
       }
-    });
+    };
+    if (static_cast<int>(S.size()) == 1 + K)  // the octaves forward kept
+      forRowRanges(n, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) accumulate(y, [&](int k) { return S[1 + k].row(y); });
+      });
+    else
+      forOctaveRows(n, makeOctaves(c, K), accumulate);
     std::vector<T> sum(K + 1, T(0));
     for (int y = 0; y < n; ++y)
       for (int k = 0; k <= K; ++k) sum[k] += perRow[static_cast<size_t>(y) * (K + 1) + k];

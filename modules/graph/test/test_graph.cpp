@@ -120,6 +120,11 @@ TEST(Graph_Nodes, fbm_bands_reproduces_fbm_and_its_parallel_gradient) {
   ASSERT_FALSE(v.empty());
   const auto rep = ps::checkNodeGradients("fbm_bands", v, o);
   EXPECT_TRUE(rep.ok()) << rep.summary();
+  // above the size whose octave planes forward keeps (6 x 512^2 values), backward regenerates
+  // them: the same check on that path
+  o.size = 512;
+  const auto regenerated = ps::checkNodeGradients("fbm_bands", v, o);
+  EXPECT_TRUE(regenerated.ok()) << regenerated.summary();
 }
 
 // ------------------------------------------------------------------ library
