@@ -8,8 +8,20 @@
 
 namespace ps {
 
+std::vector<std::vector<int>> paletteGroups(const MaterialGraph& graph, PaletteScope scope) {
+  if (scope == PaletteScope::Ramps) return graph.colorRamps();
+  std::vector<int> colours;
+  const auto& params = graph.parameters();
+  for (size_t i = 0; i < params.size(); ++i)
+    if (params[i].dim == 3 && params[i].kind == ParameterKind::Continuous &&
+        params[i].name != "albedo_offset")
+      colours.push_back(static_cast<int>(i));
+  if (colours.size() < 2) return {};
+  return {colours};
+}
+
 double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
-                   std::vector<float>* grad) {
+                   std::vector<float>* grad, PaletteScope scope) {
   if (static_cast<int>(values.size()) != graph.valueCount())
     throw std::invalid_argument("paletteLoss: values must have valueCount() entries");
   if (grad) grad->assign(values.size(), 0.0f);
@@ -19,7 +31,7 @@ double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
   const int offsetIndex = graph.findParameter("albedo_offset");
   const int aoff = offsetIndex >= 0 ? params[size_t(offsetIndex)].offset : -1;
   double loss = 0;
-  for (const std::vector<int>& ramp : graph.colorRamps()) {
+  for (const std::vector<int>& ramp : paletteGroups(graph, scope)) {
     const size_t n = ramp.size();
     std::vector<float> jac(9 * n);
     std::vector<char> inside(3 * n);

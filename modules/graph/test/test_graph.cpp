@@ -589,47 +589,79 @@ TEST(Graph_Palette, the_ramp_may_turn_as_a_whole_but_not_apart) {
   EXPECT_LT(ps::paletteLoss(g, brighter), 2e-4);
 }
 
+TEST(Graph_Palette, all_colours_hold_a_lone_colour_with_the_others) {
+  // concrete_ribbed_panels: a ramp for the panels (dark / mid / light) and a separate joint
+  // colour. Turning the joint alone to purple is no ramp's business; with all colours as one
+  // group it costs as a ramp colour's drift does, and turning every colour together stays cheap
+  ps::MaterialGraph g = lib().create("concrete_ribbed_panels");
+  const int joint = g.findParameter("joint_color");
+  ASSERT_GE(joint, 0);
+  const auto groups = ps::paletteGroups(g, ps::PaletteScope::AllColours);
+  ASSERT_EQ(groups.size(), 1u);
+  EXPECT_EQ(groups[0].size(), 4u);  // panel_dark, panel_mid, panel_light, joint_color
+  EXPECT_EQ(std::count(groups[0].begin(), groups[0].end(), g.findParameter("albedo_offset")), 0);
+  const std::vector<float> v0 = g.defaultValues();
+  EXPECT_NEAR(ps::paletteLoss(g, v0, nullptr, ps::PaletteScope::AllColours), 0.0, 1e-12);
+  std::vector<float> purple = v0;
+  const int off = g.parameters()[size_t(joint)].offset;
+  purple[size_t(off)] = 0.09f, purple[size_t(off + 1)] = 0.0f, purple[size_t(off + 2)] = 0.18f;
+  EXPECT_NEAR(ps::paletteLoss(g, purple, nullptr, ps::PaletteScope::Ramps), 0.0, 1e-12);
+  const double lone = ps::paletteLoss(g, purple, nullptr, ps::PaletteScope::AllColours);
+  EXPECT_GT(lone, 1e-3);
+  std::vector<float> together = v0;
+  for (int i : groups[0]) {
+    const int o = g.parameters()[size_t(i)].offset;
+    const auto c = turnHue(&v0[size_t(o)], 0.6);
+    std::copy(c.begin(), c.end(), together.begin() + o);
+  }
+  EXPECT_LT(ps::paletteLoss(g, together, nullptr, ps::PaletteScope::AllColours), 0.25 * lone);
+}
+
 TEST(Graph_Palette, gradient_matches_finite_differences_and_stays_finite_at_black) {
   // (the colours and the albedo offset, at random draws whose ramps are pulled apart)
-  for (const char* name : {"wood_planks", "brick_red", "stone_slate", "fabric_velvet"}) {
-    ps::MaterialGraph g = lib().create(name);
-    const auto ramps = g.colorRamps();
-    ASSERT_FALSE(ramps.empty()) << name;
-    for (uint64_t seed : {1u, 2u, 3u}) {
-      std::vector<float> v = g.randomValues(seed, 1.0f);
-      // push the ramp colours apart, so the loss is not near its minimum
-      ps::Rng rng(seed);
-      for (int i : ramps[0])
-        for (int k = 0; k < 3; ++k) {
-          float& x = v[size_t(g.parameters()[size_t(i)].offset + k)];
-          x = std::clamp(x + 0.3f * (rng.uniform() - 0.5f), 0.05f, 0.95f);
-        }
+  for (const ps::PaletteScope scope : {ps::PaletteScope::Ramps, ps::PaletteScope::AllColours})
+    for (const char* name :
+         {"wood_planks", "brick_red", "stone_slate", "fabric_velvet", "concrete_ribbed_panels"}) {
+      ps::MaterialGraph g = lib().create(name);
+      const auto ramps = ps::paletteGroups(g, scope);
+      ASSERT_FALSE(ramps.empty()) << name;
+      for (uint64_t seed : {1u, 2u, 3u}) {
+        std::vector<float> v = g.randomValues(seed, 1.0f);
+        // push the ramp colours apart, so the loss is not near its minimum
+        ps::Rng rng(seed);
+        for (int i : ramps[0])
+          for (int k = 0; k < 3; ++k) {
+            float& x = v[size_t(g.parameters()[size_t(i)].offset + k)];
+            x = std::clamp(x + 0.3f * (rng.uniform() - 0.5f), 0.05f, 0.95f);
+          }
+        std::vector<float> grad;
+        const double l = ps::paletteLoss(g, v, &grad, scope);
+        ASSERT_GT(l, 0) << name;
+        std::vector<int> checked = ramps[0];
+        checked.push_back(g.findParameter("albedo_offset"));  // the colours are seen through it
+        for (int i : checked)
+          for (int k = 0; k < 3; ++k) {
+            const size_t o = size_t(g.parameters()[size_t(i)].offset + k);
+            const float h = 1e-3f;
+            std::vector<float> a = v, b = v;
+            a[o] += h, b[o] -= h;
+            const double fd =
+                (ps::paletteLoss(g, a, nullptr, scope) - ps::paletteLoss(g, b, nullptr, scope)) /
+                (2 * h);
+            EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4)
+                << name << " value " << o;
+          }
+        for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
+      }
+      // black and white ramp colours: finite loss and gradient
+      std::vector<float> v = g.defaultValues();
+      const auto& ramp = ramps[0];
+      for (int k = 0; k < 3; ++k) {
+        v[size_t(g.parameters()[size_t(ramp[0])].offset + k)] = 0.f;
+        v[size_t(g.parameters()[size_t(ramp.back())].offset + k)] = 1.f;
+      }
       std::vector<float> grad;
-      const double l = ps::paletteLoss(g, v, &grad);
-      ASSERT_GT(l, 0) << name;
-      std::vector<int> checked = ramps[0];
-      checked.push_back(g.findParameter("albedo_offset"));  // the colours are seen through it
-      for (int i : checked)
-        for (int k = 0; k < 3; ++k) {
-          const size_t o = size_t(g.parameters()[size_t(i)].offset + k);
-          const float h = 1e-3f;
-          std::vector<float> a = v, b = v;
-          a[o] += h, b[o] -= h;
-          const double fd = (ps::paletteLoss(g, a) - ps::paletteLoss(g, b)) / (2 * h);
-          EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4)
-              << name << " value " << o;
-        }
-      for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
+      EXPECT_TRUE(std::isfinite(ps::paletteLoss(g, v, &grad, scope))) << name;
+      for (float x : grad) EXPECT_TRUE(std::isfinite(x)) << name;
     }
-    // black and white ramp colours: finite loss and gradient
-    std::vector<float> v = g.defaultValues();
-    const auto& ramp = ramps[0];
-    for (int k = 0; k < 3; ++k) {
-      v[size_t(g.parameters()[size_t(ramp[0])].offset + k)] = 0.f;
-      v[size_t(g.parameters()[size_t(ramp.back())].offset + k)] = 1.f;
-    }
-    std::vector<float> grad;
-    EXPECT_TRUE(std::isfinite(ps::paletteLoss(g, v, &grad))) << name;
-    for (float x : grad) EXPECT_TRUE(std::isfinite(x)) << name;
-  }
 }

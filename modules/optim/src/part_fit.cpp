@@ -361,7 +361,7 @@ class PartFitter {
   // lossData); with `grad`, its weighted gradient with respect to the values.
   void addPalette(Eval& e, const std::vector<float>& values, std::vector<float>* grad = nullptr) {
     if (!graph_ || o_.paletteWeight <= 0) return;
-    e.lossPalette = paletteLoss(*graph_, values, grad);
+    e.lossPalette = paletteLoss(*graph_, values, grad, o_.paletteScope);
     e.loss += o_.paletteWeight * e.lossPalette;
     if (grad)
       for (float& g : *grad) g *= o_.paletteWeight;

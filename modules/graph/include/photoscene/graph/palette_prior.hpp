@@ -31,10 +31,19 @@
 
 namespace ps {
 
-/// L_palette of `values` (length graph.valueCount()); 0 for a graph without colour ramps. With
-/// `grad`, d L / d values (resized to valueCount(); 0 outside the ramps' colours). Finite for every
-/// value in range, black included.
+/// Which colours the prior holds together: each colour ramp (MaterialGraph::colorRamps), or all
+/// the graph's colour parameters as one group (a grout, a joint or a speck colour with the
+/// colours it sits among: a thin line takes any hue the texture statistics do not see, a purple
+/// joint on a white panel).
+enum class PaletteScope { Ramps, AllColours };
+
+/// The groups `scope` names, as parameter indices (a group has at least two colours).
+std::vector<std::vector<int>> paletteGroups(const MaterialGraph& graph, PaletteScope scope);
+
+/// L_palette of `values` (length graph.valueCount()), summed over the groups of `scope`; 0 for a
+/// graph without such a group. With `grad`, d L / d values (resized to valueCount(); 0 outside
+/// the groups' colours and the albedo offset). Finite for every value in range, black included.
 double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
-                   std::vector<float>* grad = nullptr);
+                   std::vector<float>* grad = nullptr, PaletteScope scope = PaletteScope::Ramps);
 
 }  // namespace ps

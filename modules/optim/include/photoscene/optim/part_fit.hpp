@@ -15,8 +15,8 @@
 //            (optim/roughness_prior.hpp: the category's log-roughness prior, the highlight
 //            contrast where the incident light predicts one, a soft barrier on albedo near 1;
 //            on in "balanced" and "fast", off in "paper")
-//   + paletteWeight * L_palette (graph/palette_prior.hpp: a colour ramp's colours keep the
-//            chroma differences of the graph's defaults; off in every preset)
+//   + paletteWeight * L_palette (graph/palette_prior.hpp: a colour ramp's colours, or all the
+//            graph's, keep the chroma differences of its defaults; off in every preset)
 //
 // The roughness output of the graph is replaced by one scalar while fitting (initialised to the
 // mean of the graph's roughness map); the result says how to rescale the full map to it.
@@ -42,6 +42,7 @@
 #include "photoscene/features/texture_loss.hpp"
 #include "photoscene/features/texture_placement.hpp"
 #include "photoscene/graph/material_graph.hpp"
+#include "photoscene/graph/palette_prior.hpp"
 #include "photoscene/optim/adam.hpp"
 #include "photoscene/optim/roughness_prior.hpp"
 #include "photoscene/optim/uv_spectrum.hpp"
@@ -106,10 +107,13 @@ struct PartFitOptions {
   float albedoCeilingWeight = 0.0f;
   float albedoCeilingKnee = 0.9f;
   /// Weight of the palette prior L_palette (graph/palette_prior.hpp; 0 = off): a colour ramp's
-  /// colours keep the chroma differences of the graph's defaults, so the fit can turn a ramp's hue
-  /// as a whole but not spend its colours on the photo's colour moments apart (pink and olive
-  /// bricks, red and brown wood stripes).
+  /// colours (or all the graph's, paletteScope) keep the chroma differences of the graph's
+  /// defaults, so the fit can turn the colours' hue as a whole but not spend them on the photo's
+  /// colour moments apart (pink and olive bricks, red and brown wood stripes, a purple joint).
   float paletteWeight = 0.0f;
+  /// Which colours the palette prior holds together (graph/palette_prior.hpp): each ramp, or all
+  /// the graph's colours as one group.
+  PaletteScope paletteScope = PaletteScope::Ramps;
   /// Graph parameters kept at their start values: names, or a prefix followed by '*' ("grain_*":
   /// the library's octave amplitudes). Selection's short fits hold the octaves, so a finalist is
   /// judged at its designed grain (graph/README.md, "Coverage").
