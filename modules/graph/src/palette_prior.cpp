@@ -13,8 +13,7 @@ std::vector<std::vector<int>> paletteGroups(const MaterialGraph& graph, PaletteS
   std::vector<int> colours;
   const auto& params = graph.parameters();
   for (size_t i = 0; i < params.size(); ++i)
-    if (params[i].dim == 3 && params[i].kind == ParameterKind::Continuous &&
-        params[i].name != "albedo_offset")
+    if (params[i].dim == 3 && params[i].differentiable() && params[i].name != "albedo_offset")
       colours.push_back(static_cast<int>(i));
   if (colours.size() < 2) return {};
   return {colours};

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <set>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
@@ -626,18 +627,17 @@ GraphChoice ExemplarBank::selectInCategory(const std::vector<float>& key, int k,
   // then the category's graphs no neighbour voted for, by their nearest row (weight 0): the
   // finalists are the list's first graphs, and a vote that one graph's draws fill (a plain wall
   // near one low-contrast concrete) would leave a single finalist of the category to weigh
-  std::map<int, std::pair<float, int>> nearestOf;  // graph -> (distance, row) of its nearest row
+  std::set<int> voted;
+  for (const int row : r.index) voted.insert(exemplars_[row].graph);
+  std::map<int, std::pair<float, int>> nearestOf;  // unvoted graph -> (distance, row) nearest
   for (const auto& [dist, row] : near) {
     const int g = exemplars_[row].graph;
+    if (voted.count(g)) continue;
     auto it = nearestOf.find(g);
     if (it == nearestOf.end() || std::make_pair(dist, row) < it->second) nearestOf[g] = {dist, row};
   }
   std::vector<std::pair<std::pair<float, int>, int>> rest;  // ((distance, row), graph)
-  for (const auto& [g, dr] : nearestOf) {
-    const bool voted = std::any_of(choice.votes.begin(), choice.votes.end(),
-                                   [&](const GraphVote& v) { return v.graph == graphNames_[g]; });
-    if (!voted) rest.push_back({dr, g});
-  }
+  for (const auto& [g, dr] : nearestOf) rest.push_back({dr, g});
   std::sort(rest.begin(), rest.end());
   for (const auto& [dr, g] : rest) {
     GraphVote v;
