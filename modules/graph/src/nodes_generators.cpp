@@ -900,8 +900,27 @@ inline void scatterSampled(NodeCtx<T>& c, int x, int y, int sx, int sy, bool tra
   for (int k = 0; k < c.dOut[2]->c; ++k) dst[p.c == 1 ? 0 : k] += g[k];
 }
 
+/// d loss / d sampled at (x, y), spread to the pattern's channels (a gray pattern read into a
+/// colour output gets the sum).
+template <class T>
+inline std::array<T, 3> sampledGradient(const NodeCtx<T>& c, int x, int y) {
+  std::array<T, 3> g{T(0), T(0), T(0)};
+  const T* d = c.dOut[2]->ptr(x, y);
+  for (int k = 0; k < c.dOut[2]->c; ++k) g[c.in[0]->c == 1 ? 0 : k] += d[k];
+  return g;
+}
+/// d loss / d (sx, sy) of sampled(x, y) = pattern(sx, sy) (bilinear).
+template <class T>
+inline void samplePositionGradient(const NodeCtx<T>& c, int x, int y, T sx, T sy, T& Dx, T& Dy) {
+  T v[3], gx[3], gy[3];
+  sampleBilinear(*c.in[0], sx, sy, v, gx, gy);
+  const std::array<T, 3> g = sampledGradient(c, x, y);
+  Dx = 0, Dy = 0;
+  for (int k = 0; k < c.in[0]->c; ++k) Dx += g[k] * gx[k], Dy += g[k] * gy[k];
+}
+
 struct Tile {
-  enum { kLayout, kRows, kCols, kRowOffset, kGap, kBevel, kLumVar, kSeed };
+  enum { kLayout, kRows, kCols, kRowOffset, kGap, kBevel, kLumVar, kSeed, kPatternScale };
   static NodeTypeDesc desc() {
     return tileLikeDesc(
         "tile",
@@ -909,19 +928,24 @@ struct Tile {
         "grid: no shift; planks: each row shifted by a random fraction of row_offset). "
         "Outputs the bevelled height (0 in the gap, 1 on the tile), a per-tile random value "
         "0.5 + lum_var (r - 0.5), and the optional `pattern` input shifted by a random offset "
-        "per tile. gap and bevel are in units of the tile height.",
+        "per tile and scaled by pattern_scale about it (bilinear; a grain finer or coarser than "
+        "the tiles, the tiles' size unchanged). gap and bevel are in units of the tile height.",
         {pChoice("layout", {"bricks", "grid", "planks"}, 0, "row layout"),
          pInt("rows", 1, 128, 8, "rows per unit (bricks: rounded up to even)"),
          pInt("cols", 1, 128, 4, "tiles per row per unit"),
          pCont("row_offset", 0, 1, 0.5f, "row shift as a fraction of a tile length"),
          pCont("gap", 0, 0.5f, 0.06f, "gap (mortar, grout) width"),
          pCont("bevel", 0.005f, 0.5f, 0.06f, "bevel width"),
-         pCont("lum_var", 0, 1, 0.3f, "per-tile random value spread"), pSeed()});
+         pCont("lum_var", 0, 1, 0.3f, "per-tile random value spread"), pSeed(),
+         pCont("pattern_scale", 0.25f, 2, 1,
+               "pattern cycles per tile relative to the pattern's own (> 1: finer)")});
   }
   template <class T>
   struct Geo {
     int row, col;
     T dx, dy, dShift, sgn, aspect;
+    T lx,
+        ly;  ///< position in the tile in pixels, increasing with x and y (continuous across a wrap)
   };
   template <class T>
   static Geo<T> locate(const NodeCtx<T>& c, int x, int y) {
@@ -942,13 +966,22 @@ struct Tile {
     g.sgn = fx < T(0.5) ? T(1) : T(-1);
     g.dx = std::min(fx, T(1) - fx) * g.aspect;
     g.dy = std::min(fy, T(1) - fy);
+    g.lx = fx * T(c.n) / T(C);
+    g.ly = -fy * T(c.n) / T(R);  // v runs against y
     return g;
+  }
+  /// Where `sampled` reads the pattern: the pixel shifted by the tile's offset (ox, oy), then
+  /// scaled by s about it along the tile's own coordinates: the identity at s = 1.
+  template <class T>
+  static void source(const Geo<T>& g, int x, int y, int ox, int oy, T s, T& sx, T& sy) {
+    sx = T(x + ox) + (s - T(1)) * g.lx;
+    sy = T(y + oy) + (s - T(1)) * g.ly;
   }
   template <class T>
   static void forward(NodeCtx<T>& c) {
     const int n = c.n;
     const uint32_t seed = uint32_t(c.I(kSeed));
-    const T gap = c.P(kGap), bevel = c.P(kBevel), lv = c.P(kLumVar);
+    const T gap = c.P(kGap), bevel = c.P(kBevel), lv = c.P(kLumVar), scale = c.P(kPatternScale);
     forRows(n, [&](int y) {
       int lastCol = -1, lastRow = -1, ox = 0, oy = 0;
       T rnd = 0;
@@ -962,7 +995,15 @@ struct Tile {
         }
         c.out[0]->at(x, y) = Bevel<T>(std::min(g.dx, g.dy), gap, bevel).h;
         c.out[1]->at(x, y) = rnd;
-        writeSampled(c, x, y, ox, oy, false);
+        if (scale == T(1) || !c.in[0]) {
+          writeSampled(c, x, y, ox, oy, false);
+        } else {
+          T sx, sy, v[3];
+          source(g, x, y, ox, oy, scale, sx, sy);
+          sampleBilinear(*c.in[0], sx, sy, v);
+          T* dst = c.out[2]->ptr(x, y);
+          for (int k = 0; k < c.out[2]->c; ++k) dst[k] = v[c.in[0]->c == 1 ? 0 : k];
+        }
       }
     });
   }
@@ -970,9 +1011,13 @@ struct Tile {
   static void backward(NodeCtx<T>& c) {
     const int n = c.n;
     const uint32_t seed = uint32_t(c.I(kSeed));
-    const T gap = c.P(kGap), bevel = c.P(kBevel);
-    T dg = 0, db = 0, dro = 0, dlv = 0;
+    const T gap = c.P(kGap), bevel = c.P(kBevel), scale = c.P(kPatternScale);
+    const int C = int(c.P(kCols) + T(0.5));
+    T dg = 0, db = 0, dro = 0, dlv = 0, dscale = 0;
     const bool wantLv = c.wantP(kLumVar), sampled = c.in[0] && c.dIn[0];
+    // the sample position moves with pattern_scale, and off s = 1 with row_offset (lx)
+    const bool moves =
+        c.in[0] && (c.wantP(kPatternScale) || (scale != T(1) && c.wantP(kRowOffset)));
     for (int y = 0; y < n; ++y) {
       int lastCol = -1, lastRow = -1, ox = 0, oy = 0;
       T rnd = 0;
@@ -985,7 +1030,7 @@ struct Tile {
           db += gh * b.dBevel;
           if (g.dx < g.dy) dro += gh * b.dD * g.sgn * g.aspect * g.dShift;
         }
-        if (!wantLv && !sampled) continue;
+        if (!wantLv && !sampled && !moves) continue;
         if (g.col != lastCol || g.row != lastRow) {
           lastCol = g.col, lastRow = g.row;
           rnd = T(hashf(g.col, g.row, seed)) - T(0.5);
@@ -993,13 +1038,27 @@ struct Tile {
           oy = int(hashf(g.col, g.row, seed + 2) * float(n));
         }
         dlv += c.dOut[1]->at(x, y) * rnd;
-        if (sampled) scatterSampled(c, x, y, ox, oy, false);
+        if (!c.in[0]) continue;
+        if (scale == T(1) && !moves) {
+          if (sampled) scatterSampled(c, x, y, ox, oy, false);
+          continue;
+        }
+        T sx, sy;
+        source(g, x, y, ox, oy, scale, sx, sy);
+        if (sampled) scatterBilinear(*c.dIn[0], sx, sy, sampledGradient(c, x, y).data());
+        if (moves) {
+          T Dx, Dy;
+          samplePositionGradient(c, x, y, sx, sy, Dx, Dy);
+          dscale += Dx * g.lx + Dy * g.ly;
+          dro += Dx * (scale - T(1)) * g.dShift * T(n) / T(C);
+        }
       }
     }
     c.dP(kGap) += dg;
     c.dP(kBevel) += db;
     c.dP(kRowOffset) += dro;
     c.dP(kLumVar) += dlv;
+    c.dP(kPatternScale) += dscale;
   }
 };
 

@@ -127,6 +127,55 @@ TEST(Graph_Nodes, fbm_bands_reproduces_fbm_and_its_parallel_gradient) {
   EXPECT_TRUE(regenerated.ok()) << regenerated.summary();
 }
 
+// The tile node's pattern_scale: stripes sampled into planks run pattern_scale times as often
+// inside each plank (the planks themselves unchanged), and the gradient of what only `sampled`
+// feeds (here the roughness) holds for pattern_scale and for row_offset, which moves where in
+// its plank a pixel lies once the pattern is scaled.
+TEST(Graph_Nodes, tile_pattern_scale_scales_the_grain_inside_each_tile) {
+  auto planks = [](const char* direction, int cols) {
+    return ps::MaterialGraph::fromString(std::string(R"({"name":"x","category":"wood","nodes":[
+    {"id":"s","type":"stripes","params":{"count":16,"direction":")") +
+                                             direction + R"(",
+     "width":0.5,"softness":0.3}},
+    {"id":"t","type":"tile","params":{"layout":"planks","rows":2,"cols":)" +
+                                             std::to_string(cols) + R"(,"gap":0.02,"seed":3},
+     "inputs":{"pattern":"s"}},
+    {"id":"c","type":"uniform_color"},{"id":"n","type":"normal","inputs":{"height":"t.height"}}],
+    "outputs":{"albedo":"c","normal":"n","roughness":"t.sampled"},
+    "parameters":[{"name":"scale","targets":["t.pattern_scale"]},
+                  {"name":"offset","targets":["t.row_offset"]}]})",
+                                         "x.json");
+  };
+  auto g = planks("v", 1);
+  // stripe edges crossed along a column (v): 2 per stripe, plus at most 2 per plank border
+  auto crossings = [&](float scale) {
+    g.setParameter("scale", {scale});
+    const cv::Mat r = g.evaluate(256).roughness;
+    int n = 0;
+    for (int y = 1; y < r.rows; ++y)
+      n += (r.at<float>(y, 40) > 0.5f) != (r.at<float>(y - 1, 40) > 0.5f);
+    return n;
+  };
+  EXPECT_NEAR(crossings(1.0f), 32, 4);
+  EXPECT_NEAR(crossings(2.0f), 64, 4);
+  EXPECT_NEAR(crossings(0.5f), 16, 4);
+  const cv::Mat h1 = g.evaluate(256).height;  // the planks do not move with the scale
+  g.setParameter("scale", {1.0f});
+  EXPECT_EQ(cv::norm(h1, g.evaluate(256).height, cv::NORM_INF), 0.0);
+
+  // diagonal stripes, three planks a row: what a pixel samples moves with row_offset too
+  auto d = planks("diagonal", 3);
+  ps::GradientCheckOptions o;
+  o.size = 64;
+  o.absTol = 1e-5;
+  for (float scale : {1.0f, 0.63f, 1.71f}) {  // off rational scales, whose samples sit on knots
+    d.setParameter("scale", {scale});
+    d.setParameter("offset", {0.37f});
+    const auto rep = ps::checkGraphGradients(d, o);
+    EXPECT_TRUE(rep.ok()) << "pattern_scale " << scale << ":\n" << rep.summary();
+  }
+}
+
 // ------------------------------------------------------------------ library
 TEST(Graph_Library, has_40_valid_graphs_in_spec_categories) {
   const auto& l = lib();
