@@ -283,6 +283,16 @@ def finish_wood(g, grain, joints, albedo, rough, shift, **kw):
     finish(g, 'h', rough_range(g, grain, *rough), albedo, 0.005, normal_max=0.03, shift=shift, **kw)
 
 
+def grain_scale(g, tiles):
+    """Exposes the tile node `tiles`' pattern_scale as `grain_scale`: a grain finer or coarser than the planks,
+    so that a fit sets the plank size and the grain's apart. A fitting freedom only: not drawn (draw_spread 0
+    takes no random stream, so every other parameter's draw, and the exemplar bank, stay as they were).
+    Its name starts with grain_, so selection's short fits hold it (SynthesisOptions::heldParameters) and
+    the part's fit moves it."""
+    g.p('grain_scale', tiles + '.pattern_scale', min=0.35, max=2.0, draw_spread=0.0,
+        doc="grain cycles per plank relative to the grain node's (the planks unchanged)")
+
+
 def wood_planks(name, desc, grain_fn, rows, cols, layout, col, seed, tint=0.5, lum_var=0.5, gap=0.02, bevel=0.03,
                 rough=(0.5, 0.38), shift=None, first=False):
     """Planks cut from the grain `grain_fn(g, seed)`; `first`: the library's first plank floors (rows and row
@@ -297,6 +307,11 @@ def wood_planks(name, desc, grain_fn, rows, cols, layout, col, seed, tint=0.5, l
         g.p('plank_rows', 'tiles.rows', min=2, max=24)
         g.p('row_offset', 'tiles.row_offset')
     g.p('plank_variation', 'tiles.lum_var')
+    if not first:
+        # not on the first floors: at the default (1) every sample sits on a pixel centre, where the
+        # map's derivative in the scale has a kink (the colour ramp's clamp meets a grain of exactly
+        # 0 or 1), and their random draws put a finite-difference check there; they stay as they were
+        grain_scale(g, 'tiles')
     c = wood_colors(g, 'tiles.sampled', *col)
     blend(g, 'tint', 'tiles.random', c, param='plank_tint', mode='overlay', opacity=tint, doc='per-plank brightness variation')
     alb = dark_joints(g, 'tint', 'tiles.height', [0.25, 0.2, 0.17], 'gap_dark' if first else 'alb', first, opacity=1.0)
@@ -373,6 +388,7 @@ def painted_wood():
     g.n('tiles', 'tile', {'pattern': grain}, layout='bricks', rows=2, cols=6, gap=0.005, bevel=0.01, lum_var=0.1, seed=32)
     g.p('board_count', 'tiles.cols', min=2, max=16)
     g.p('board_gap', 'tiles.gap', min=0.0, max=0.05)
+    grain_scale(g, 'tiles')
     g.n('rot', 'transform', {'in': 'tiles.sampled'}, rotation='90')
     tinted(g, 'paint', [0.70, 0.69, 0.64], 'paint_color', 'rot', 0.85, 'grain_show_through', 0.5, sh='shade', out='alb0')
     # the board layout turns with the grain (horizontal boards, grain along them)
@@ -1399,6 +1415,7 @@ def tongue_groove(name, desc, boards, painted, col, seed, panel=False):
         g.p('groove_bevel', 'gr.softness', min=0.01, max=0.1)
         prof = 'gr'
     g.p('board_variation', 't.lum_var')
+    grain_scale(g, 't')
     if painted:
         tinted(g, 'paint', col[0], 'paint_color', 't.sampled', 0.9, 'grain_show_through', 0.6, sh='shade', out='c0')
         r = rough_range(g, 't.sampled', 0.55, 0.45)
@@ -1426,6 +1443,7 @@ def worn_painted_planks():
     g.n('t', 'tile', {'pattern': grain}, layout='planks', rows=6, cols=1, row_offset=0.9, gap=0.02, bevel=0.08, lum_var=0.3, seed=572)
     g.p('plank_gap', 't.gap', min=0.0, max=0.1)
     g.p('plank_bevel', 't.bevel', min=0.01, max=0.3)
+    grain_scale(g, 't')
     wood = wood_colors(g, 't.sampled', (0.5, 0.33, 0.17), (0.36, 0.21, 0.09), (0.2, 0.1, 0.04))
     uniform(g, 'paint', [0.55, 0.62, 0.66], 'paint_color')
     g.n('wn', 'fbm', scale_x=8, scale_y=8, octaves=6, roughness=0.6, seed=573)
