@@ -2,6 +2,7 @@
 #include "photoscene/graph/palette_prior.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "oklab.hpp"
@@ -20,7 +21,7 @@ std::vector<std::vector<int>> paletteGroups(const MaterialGraph& graph, PaletteS
 }
 
 double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
-                   std::vector<float>* grad, PaletteScope scope) {
+                   std::vector<float>* grad, PaletteScope scope, float deadZone) {
   if (static_cast<int>(values.size()) != graph.valueCount())
     throw std::invalid_argument("paletteLoss: values must have valueCount() entries");
   if (grad) grad->assign(values.size(), 0.0f);
@@ -49,14 +50,33 @@ double paletteLoss(const MaterialGraph& graph, const std::vector<float>& values,
       ca[i] = lab[1], cb[i] = lab[2], da[i] = lab0[1], db[i] = lab0[2];
       mca += ca[i] / n, mcb += cb[i] / n, mda += da[i] / n, mdb += db[i] / n;
     }
+    // each colour's residual r_i, its term (max(0, |r_i| - deadZone))^2 and that term's
+    // derivative in r_i, (ga_i, gb_i)
+    std::vector<double> ga(n), gb(n);
+    double mga = 0, mgb = 0;
     for (size_t i = 0; i < n; ++i) {
       const double ra = (ca[i] - mca) - (da[i] - mda), rb = (cb[i] - mcb) - (db[i] - mdb);
-      loss += ra * ra + rb * rb;
-      if (!grad) continue;
+      const double r = std::sqrt(ra * ra + rb * rb), excess = r - double(deadZone);
+      if (deadZone <= 0) {
+        loss += ra * ra + rb * rb;
+        ga[i] = 2 * ra, gb[i] = 2 * rb;
+      } else if (excess > 0) {
+        loss += excess * excess;
+        ga[i] = 2 * excess * ra / r, gb[i] = 2 * excess * rb / r;
+      } else {
+        ga[i] = gb[i] = 0;
+      }
+      mga += ga[i] / n, mgb += gb[i] / n;
+    }
+    if (!grad) continue;
+    // r_i = c_i - mean c - const: d L / d c_j = g_j - mean_i g_i (the mean is 0 without a dead
+    // zone, where the g_i are 2 r_i and the r_i sum to 0)
+    for (size_t i = 0; i < n; ++i) {
+      const double gai = ga[i] - mga, gbi = gb[i] - mgb;
       const float* J = &jac[9 * i];  // rows L, a, b; columns r, g, b
       const int off = params[size_t(ramp[i])].offset;
       for (int c = 0; c < 3; ++c) {
-        const float g = inside[3 * i + c] ? float(2 * (ra * J[3 + c] + rb * J[6 + c])) : 0.f;
+        const float g = inside[3 * i + c] ? float(gai * J[3 + c] + gbi * J[6 + c]) : 0.f;
         (*grad)[size_t(off + c)] += g;
         if (aoff >= 0) (*grad)[size_t(aoff + c)] += g;
       }

@@ -666,51 +666,74 @@ TEST(Graph_Palette, all_colours_hold_a_lone_colour_with_the_others) {
   EXPECT_LT(ps::paletteLoss(g, together, nullptr, ps::PaletteScope::AllColours), 0.25 * lone);
 }
 
+TEST(Graph_Palette, a_dead_zone_frees_the_draws_and_still_holds_a_lone_colour) {
+  // every graph's own random draws (the exemplar bank's spread) cost nothing with the dead zone,
+  // so a fit to a draw is not pulled off it; the purple joint still costs
+  int zero = 0, total = 0;
+  for (const auto& name : lib().names()) {
+    ps::MaterialGraph g = lib().create(name);
+    if (ps::paletteGroups(g, ps::PaletteScope::AllColours).empty()) continue;
+    for (uint64_t d = 0; d < 8; ++d, ++total)
+      zero += ps::paletteLoss(g, g.randomValues(5000 + d, 0.6f), nullptr,
+                              ps::PaletteScope::AllColours, ps::kPaletteDrawDeadZone) == 0.0;
+  }
+  EXPECT_GE(zero, 0.98 * total) << zero << " of " << total << " draws cost nothing";
+  ps::MaterialGraph g = lib().create("concrete_ribbed_panels");
+  std::vector<float> purple = g.defaultValues();
+  const int off = g.parameters()[size_t(g.findParameter("joint_color"))].offset;
+  purple[size_t(off)] = 0.09f, purple[size_t(off + 1)] = 0.0f, purple[size_t(off + 2)] = 0.18f;
+  EXPECT_GT(
+      ps::paletteLoss(g, purple, nullptr, ps::PaletteScope::AllColours, ps::kPaletteDrawDeadZone),
+      1e-3);
+}
+
 TEST(Graph_Palette, gradient_matches_finite_differences_and_stays_finite_at_black) {
-  // (the colours and the albedo offset, at random draws whose ramps are pulled apart)
-  for (const ps::PaletteScope scope : {ps::PaletteScope::Ramps, ps::PaletteScope::AllColours})
-    for (const char* name :
-         {"wood_planks", "brick_red", "stone_slate", "fabric_velvet", "concrete_ribbed_panels"}) {
-      ps::MaterialGraph g = lib().create(name);
-      const auto ramps = ps::paletteGroups(g, scope);
-      ASSERT_FALSE(ramps.empty()) << name;
-      for (uint64_t seed : {1u, 2u, 3u}) {
-        std::vector<float> v = g.randomValues(seed, 1.0f);
-        // push the ramp colours apart, so the loss is not near its minimum
-        ps::Rng rng(seed);
-        for (int i : ramps[0])
-          for (int k = 0; k < 3; ++k) {
-            float& x = v[size_t(g.parameters()[size_t(i)].offset + k)];
-            x = std::clamp(x + 0.3f * (rng.uniform() - 0.5f), 0.05f, 0.95f);
-          }
+  // (the colours and the albedo offset, at random draws whose ramps are pulled apart; without
+  // and with the dead zone)
+  for (const float dz : {0.0f, ps::kPaletteDrawDeadZone})
+    for (const ps::PaletteScope scope : {ps::PaletteScope::Ramps, ps::PaletteScope::AllColours})
+      for (const char* name :
+           {"wood_planks", "brick_red", "stone_slate", "fabric_velvet", "concrete_ribbed_panels"}) {
+        ps::MaterialGraph g = lib().create(name);
+        const auto ramps = ps::paletteGroups(g, scope);
+        ASSERT_FALSE(ramps.empty()) << name;
+        for (uint64_t seed : {1u, 2u, 3u}) {
+          std::vector<float> v = g.randomValues(seed, 1.0f);
+          // push the ramp colours apart, so the loss is not near its minimum
+          ps::Rng rng(seed);
+          for (int i : ramps[0])
+            for (int k = 0; k < 3; ++k) {
+              float& x = v[size_t(g.parameters()[size_t(i)].offset + k)];
+              x = std::clamp(x + 0.3f * (rng.uniform() - 0.5f), 0.05f, 0.95f);
+            }
+          std::vector<float> grad;
+          const double l = ps::paletteLoss(g, v, &grad, scope, dz);
+          ASSERT_GT(l, 0) << name;
+          std::vector<int> checked = ramps[0];
+          checked.push_back(g.findParameter("albedo_offset"));  // the colours are seen through it
+          for (int i : checked)
+            for (int k = 0; k < 3; ++k) {
+              const size_t o = size_t(g.parameters()[size_t(i)].offset + k);
+              const float h = 1e-3f;
+              std::vector<float> a = v, b = v;
+              a[o] += h, b[o] -= h;
+              const double fd = (ps::paletteLoss(g, a, nullptr, scope, dz) -
+                                 ps::paletteLoss(g, b, nullptr, scope, dz)) /
+                                (2 * h);
+              EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4)
+                  << name << " value " << o;
+            }
+          for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
+        }
+        // black and white ramp colours: finite loss and gradient
+        std::vector<float> v = g.defaultValues();
+        const auto& ramp = ramps[0];
+        for (int k = 0; k < 3; ++k) {
+          v[size_t(g.parameters()[size_t(ramp[0])].offset + k)] = 0.f;
+          v[size_t(g.parameters()[size_t(ramp.back())].offset + k)] = 1.f;
+        }
         std::vector<float> grad;
-        const double l = ps::paletteLoss(g, v, &grad, scope);
-        ASSERT_GT(l, 0) << name;
-        std::vector<int> checked = ramps[0];
-        checked.push_back(g.findParameter("albedo_offset"));  // the colours are seen through it
-        for (int i : checked)
-          for (int k = 0; k < 3; ++k) {
-            const size_t o = size_t(g.parameters()[size_t(i)].offset + k);
-            const float h = 1e-3f;
-            std::vector<float> a = v, b = v;
-            a[o] += h, b[o] -= h;
-            const double fd =
-                (ps::paletteLoss(g, a, nullptr, scope) - ps::paletteLoss(g, b, nullptr, scope)) /
-                (2 * h);
-            EXPECT_NEAR(grad[o], fd, 2e-3 * std::max(1.0, std::abs(fd)) + 1e-4)
-                << name << " value " << o;
-          }
-        for (size_t o = 0; o < grad.size(); ++o) EXPECT_TRUE(std::isfinite(grad[o]));
+        EXPECT_TRUE(std::isfinite(ps::paletteLoss(g, v, &grad, scope, dz))) << name;
+        for (float x : grad) EXPECT_TRUE(std::isfinite(x)) << name;
       }
-      // black and white ramp colours: finite loss and gradient
-      std::vector<float> v = g.defaultValues();
-      const auto& ramp = ramps[0];
-      for (int k = 0; k < 3; ++k) {
-        v[size_t(g.parameters()[size_t(ramp[0])].offset + k)] = 0.f;
-        v[size_t(g.parameters()[size_t(ramp.back())].offset + k)] = 1.f;
-      }
-      std::vector<float> grad;
-      EXPECT_TRUE(std::isfinite(ps::paletteLoss(g, v, &grad, scope))) << name;
-      for (float x : grad) EXPECT_TRUE(std::isfinite(x)) << name;
-    }
 }

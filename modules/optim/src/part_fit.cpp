@@ -121,6 +121,7 @@ bool PartFitOptions::IsValid(std::string* error) const {
   if (!(albedoCeilingKnee > 0.5f && albedoCeilingKnee < 1.0f))
     return fail("albedoCeilingKnee must be in (0.5, 1)");
   if (!(paletteWeight >= 0)) return fail("paletteWeight must be >= 0");
+  if (!(paletteDeadZone >= 0)) return fail("paletteDeadZone must be >= 0");
   if (!(highlight.glossyRoughness > 0.01f && highlight.glossyRoughness <= 1.0f) ||
       !(highlight.minRatio > 0) || highlight.minPixels < 1 ||
       !(highlight.maxFraction > highlight.minFraction))
@@ -361,7 +362,7 @@ class PartFitter {
   // lossData); with `grad`, its weighted gradient with respect to the values.
   void addPalette(Eval& e, const std::vector<float>& values, std::vector<float>* grad = nullptr) {
     if (!graph_ || o_.paletteWeight <= 0) return;
-    e.lossPalette = paletteLoss(*graph_, values, grad, o_.paletteScope);
+    e.lossPalette = paletteLoss(*graph_, values, grad, o_.paletteScope, o_.paletteDeadZone);
     e.loss += o_.paletteWeight * e.lossPalette;
     if (grad)
       for (float& g : *grad) g *= o_.paletteWeight;

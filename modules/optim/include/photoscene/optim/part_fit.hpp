@@ -114,6 +114,9 @@ struct PartFitOptions {
   /// Which colours the palette prior holds together (graph/palette_prior.hpp): each ramp, or all
   /// the graph's colours as one group.
   PaletteScope paletteScope = PaletteScope::Ramps;
+  /// Departures from the defaults' colour relations that cost nothing (paletteLoss's deadZone;
+  /// kPaletteDrawDeadZone covers the library's own random draws).
+  float paletteDeadZone = 0.0f;
   /// Graph parameters kept at their start values: names, or a prefix followed by '*' ("grain_*":
   /// the library's octave amplitudes). Selection's short fits hold the octaves, so a finalist is
   /// judged at its designed grain (graph/README.md, "Coverage").
