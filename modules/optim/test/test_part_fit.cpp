@@ -516,6 +516,8 @@ TEST(Optim_PartFit, the_palette_prior_pulls_a_torn_ramp_back_together) {
   ASSERT_GT(torn, 1e-3);
   PartFitOptions o = PartFitOptions::preset("fast");
   o.maxIterations = 30;
+  o.paletteScope = PaletteScope::Ramps;  // the ramps' prior without a dead zone (the presets
+  o.paletteDeadZone = 0.0f;              // hold all the colours, past the draws' spread)
   o.paletteWeight = 0.0f;
   const PartFitResult without = fitPart(start, geo, s.photo, target, o);
   o.paletteWeight = 30.0f;
