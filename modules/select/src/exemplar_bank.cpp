@@ -616,8 +616,10 @@ GraphChoice ExemplarBank::selectInCategory(const std::vector<float>& key, int k,
     for (int c = 0; c < d; ++c) d2 += (x[c] - q[c]) * (x[c] - q[c]);
     near.emplace_back(static_cast<float>(std::sqrt(d2)), row);
   }
+  // all of them in order (a category's rows are a few thousand; the graphs no neighbour votes
+  // for are listed below by their nearest row)
+  std::sort(near.begin(), near.end());
   const size_t n = std::min(near.size(), static_cast<size_t>(k));
-  std::partial_sort(near.begin(), near.begin() + n, near.end());
   KnnResult r;
   for (size_t i = 0; i < n; ++i) {
     r.index.push_back(near[i].second);
@@ -627,23 +629,15 @@ GraphChoice ExemplarBank::selectInCategory(const std::vector<float>& key, int k,
   // then the category's graphs no neighbour voted for, by their nearest row (weight 0): the
   // finalists are the list's first graphs, and a vote that one graph's draws fill (a plain wall
   // near one low-contrast concrete) would leave a single finalist of the category to weigh
-  std::set<int> voted;
-  for (const int row : r.index) voted.insert(exemplars_[row].graph);
-  std::map<int, std::pair<float, int>> nearestOf;  // unvoted graph -> (distance, row) nearest
-  for (const auto& [dist, row] : near) {
+  std::set<int> listed;
+  for (const int row : r.index) listed.insert(exemplars_[row].graph);
+  for (const auto& [dist, row] : near) {  // nearest first: a graph's first row is its nearest
     const int g = exemplars_[row].graph;
-    if (voted.count(g)) continue;
-    auto it = nearestOf.find(g);
-    if (it == nearestOf.end() || std::make_pair(dist, row) < it->second) nearestOf[g] = {dist, row};
-  }
-  std::vector<std::pair<std::pair<float, int>, int>> rest;  // ((distance, row), graph)
-  for (const auto& [g, dr] : nearestOf) rest.push_back({dr, g});
-  std::sort(rest.begin(), rest.end());
-  for (const auto& [dr, g] : rest) {
+    if (!listed.insert(g).second) continue;
     GraphVote v;
     v.graph = graphNames_[g];
     v.category = categories_[g];
-    v.nearestDraw = exemplars_[dr.second].draw;
+    v.nearestDraw = exemplars_[row].draw;
     choice.votes.push_back(v);
   }
   return choice;
