@@ -909,12 +909,12 @@ inline std::array<T, 3> sampledGradient(const NodeCtx<T>& c, int x, int y) {
   for (int k = 0; k < c.dOut[2]->c; ++k) g[c.in[0]->c == 1 ? 0 : k] += d[k];
   return g;
 }
-/// d loss / d (sx, sy) of sampled(x, y) = pattern(sx, sy) (bilinear).
+/// d loss / d (sx, sy) of sampled = pattern(sx, sy) (bilinear), g = sampledGradient there.
 template <class T>
-inline void samplePositionGradient(const NodeCtx<T>& c, int x, int y, T sx, T sy, T& Dx, T& Dy) {
+inline void samplePositionGradient(const NodeCtx<T>& c, const std::array<T, 3>& g, T sx, T sy,
+                                   T& Dx, T& Dy) {
   T v[3], gx[3], gy[3];
   sampleBilinear(*c.in[0], sx, sy, v, gx, gy);
-  const std::array<T, 3> g = sampledGradient(c, x, y);
   Dx = 0, Dy = 0;
   for (int k = 0; k < c.in[0]->c; ++k) Dx += g[k] * gx[k], Dy += g[k] * gy[k];
 }
@@ -946,6 +946,7 @@ struct Tile {
     T dx, dy, dShift, sgn, aspect;
     T lx,
         ly;  ///< position in the tile in pixels, increasing with x and y (continuous across a wrap)
+    T dlx;   ///< d lx / d row_offset
   };
   template <class T>
   static Geo<T> locate(const NodeCtx<T>& c, int x, int y) {
@@ -968,6 +969,7 @@ struct Tile {
     g.dy = std::min(fy, T(1) - fy);
     g.lx = fx * T(c.n) / T(C);
     g.ly = -fy * T(c.n) / T(R);  // v runs against y
+    g.dlx = g.dShift * T(c.n) / T(C);
     return g;
   }
   /// Where `sampled` reads the pattern: the pixel shifted by the tile's offset (ox, oy), then
@@ -1012,7 +1014,6 @@ struct Tile {
     const int n = c.n;
     const uint32_t seed = uint32_t(c.I(kSeed));
     const T gap = c.P(kGap), bevel = c.P(kBevel), scale = c.P(kPatternScale);
-    const int C = int(c.P(kCols) + T(0.5));
     T dg = 0, db = 0, dro = 0, dlv = 0, dscale = 0;
     const bool wantLv = c.wantP(kLumVar), sampled = c.in[0] && c.dIn[0];
     // the sample position moves with pattern_scale, and off s = 1 with row_offset (lx)
@@ -1045,12 +1046,13 @@ struct Tile {
         }
         T sx, sy;
         source(g, x, y, ox, oy, scale, sx, sy);
-        if (sampled) scatterBilinear(*c.dIn[0], sx, sy, sampledGradient(c, x, y).data());
+        const std::array<T, 3> gs = sampledGradient(c, x, y);
+        if (sampled) scatterBilinear(*c.dIn[0], sx, sy, gs.data());
         if (moves) {
           T Dx, Dy;
-          samplePositionGradient(c, x, y, sx, sy, Dx, Dy);
+          samplePositionGradient(c, gs, sx, sy, Dx, Dy);
           dscale += Dx * g.lx + Dy * g.ly;
-          dro += Dx * (scale - T(1)) * g.dShift * T(n) / T(C);
+          dro += Dx * (scale - T(1)) * g.dlx;
         }
       }
     }
