@@ -6,7 +6,8 @@
 //                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--references 8]
 //                           [--graph-views 4] [--sliced 4] [--ps 0]
 //                           [--gain-start 1] [--palette 0] [--scales 2,4,8,16] [--min-map 0]
-//                           [--rotations 1] [--print-values]
+//                           [--rotations 1] [--bank-scales 5] [--bank-frequency 0.35]
+//                           [--print-values]
 //
 // Materials: every entry of textures/cc0/manifest.json (its category), and the three maps of
 // textures/polyhaven/ (category from the name: the first of concrete, tile, ... it contains).
@@ -33,7 +34,10 @@
 // (TextureLossTarget on the texture view at offset o1, full mask; colorSliced = --sliced, 4 by
 // default, 0 = the loss as the pipeline's fit uses it; --shape the spectral shape's weight, 0.3
 // by default as in the pipeline's fit; --ps W weights each joint-statistics group W, 0 by
-// default) of the graph's view, Adam on the graph's
+// default; its filter bank --bank-scales octaves from --bank-frequency cycles per pixel, 5 from
+// 0.35 by default: periods of 2.9 to 46 px, where the features' default of 4 from 0.25 sees 4 to
+// 32 and misses the photographs' pixel-scale grain and a plank's width; graph README) of the
+// graph's view, Adam on the graph's
 // continuous parameters (normalised to [0, 1], learning rate 0.03; the start matches the view's
 // mean colour: with --gain-start 1, the default, every colour parameter is first multiplied by
 // the channel's ratio of the means, and the albedo offset takes what remains; with 0 the offset
@@ -355,6 +359,8 @@ int main(int argc, char** argv) {
   int minMap = 0, rotations = 1, references = 8, graphViews = 4;
   bool gainStart = true;
   float sliced = 4.0f, psWeight = 0.0f, shape = 0.3f, palette = 0.0f;
+  int bankScales = 5;
+  double bankFrequency = 0.35;
   app.add_option("--data", data, "shared data folder");
   app.add_option("--library", library, "graph library folder (default: the bundled one)");
   app.add_option("--materials", materialNames, "only these materials (comma list)")->delimiter(',');
@@ -370,6 +376,9 @@ int main(int argc, char** argv) {
                  "views of the fitted graph (and of the texture, for d_self) at random offsets");
   app.add_option("--ps", psWeight, "weight of each joint-statistics group of the loss (ps*)");
   app.add_option("--shape", shape, "weight of the loss's spectral shape (bandShape)");
+  app.add_option("--bank-scales", bankScales, "octaves of the loss's filter bank (numScales)");
+  app.add_option("--bank-frequency", bankFrequency,
+                 "the bank's centre frequency, cycles per pixel of level 0 (centerFrequency)");
   app.add_option("--sliced", sliced, "weight of the loss's colour distribution (colorSliced)");
   app.add_option("--scales", scales,
                  "k per scale: the view covers k / 4 graph tiles (powers of two <= 4 VIEW)")
@@ -397,6 +406,13 @@ int main(int argc, char** argv) {
     if (graphViews < 1) throw ps::InputError("--graph-views", "", "expected at least 1");
     if (minMap != 0 && !pow2(minMap))
       throw ps::InputError("--min-map", "", "expected 0 or a power of two");
+    {
+      ps::TextureDescriptorOptions bank;
+      bank.numScales = bankScales;
+      bank.centerFrequency = bankFrequency;
+      std::string why;
+      if (!bank.IsValid(&why)) throw ps::InputError("--bank-scales / --bank-frequency", "", why);
+    }
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
     std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
     if (!materialNames.empty()) {
@@ -449,6 +465,8 @@ int main(int argc, char** argv) {
       ps::TextureLossOptions lossOptions;
       lossOptions.weights.colorSliced = sliced;
       lossOptions.weights.bandShape = shape;
+      lossOptions.descriptor.numScales = bankScales;
+      lossOptions.descriptor.centerFrequency = bankFrequency;
       ps::TextureLossWeights& w = lossOptions.weights;
       w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor =
           psWeight;
