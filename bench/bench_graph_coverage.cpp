@@ -2,7 +2,7 @@
 // material's category reach its look at all?
 //
 //   ps_bench_graph_coverage [--data ../shared/data] [--library DIR] [--materials NAME,NAME]
-//                           [--iterations 24] [--probe 5] [--view 128] [--threads 2]
+//                           [--iterations 64] [--probe 5] [--view 128] [--threads 2]
 //                           [--csv FILE] [--sheet FILE.png] [--seed 1] [--references 8]
 //                           [--graph-views 4] [--sliced 4] [--ps 0]
 //                           [--gain-start 1] [--palette 0] [--scales 2,4,8,16] [--min-map 0]
@@ -352,7 +352,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Coverage of the graph library against photographed materials (issue 18)"};
   std::string data = "../shared/data", library, csvPath, sheetPath;
   std::vector<std::string> materialNames;
-  int iterations = 24, probe = 5, view = 128, threads = 2;
+  int iterations = 64, probe = 5, view = 128, threads = 2;
   uint64_t seed = 1;
   bool printValues = false;
   std::vector<int> scales = {2, 4, 8, 16};
