@@ -406,13 +406,17 @@ int main(int argc, char** argv) {
     if (graphViews < 1) throw ps::InputError("--graph-views", "", "expected at least 1");
     if (minMap != 0 && !pow2(minMap))
       throw ps::InputError("--min-map", "", "expected 0 or a power of two");
-    {
-      ps::TextureDescriptorOptions bank;
-      bank.numScales = bankScales;
-      bank.centerFrequency = bankFrequency;
-      std::string why;
-      if (!bank.IsValid(&why)) throw ps::InputError("--bank-scales / --bank-frequency", "", why);
-    }
+    // the fit's loss, the same for every material
+    ps::TextureLossOptions lossOptions;
+    lossOptions.weights.colorSliced = sliced;
+    lossOptions.weights.bandShape = shape;
+    ps::TextureLossWeights& w = lossOptions.weights;
+    w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor =
+        psWeight;
+    lossOptions.descriptor.numScales = bankScales;
+    lossOptions.descriptor.centerFrequency = bankFrequency;
+    if (std::string why; !lossOptions.descriptor.IsValid(&why))
+      throw ps::InputError("--bank-scales / --bank-frequency", "", why);
     const ps::GraphLibrary lib = ps::GraphLibrary::load(library);
     std::vector<RealMaterial> mats = ps::bench::listRealMaterials(data);
     if (!materialNames.empty()) {
@@ -462,14 +466,6 @@ int main(int argc, char** argv) {
       while (int(selfViews.size()) < graphViews) selfViews.push_back(texWindow());
       r.self = meanDistance(cmp, selfViews, mask);
       r.dSelf = r.self.total;
-      ps::TextureLossOptions lossOptions;
-      lossOptions.weights.colorSliced = sliced;
-      lossOptions.weights.bandShape = shape;
-      lossOptions.descriptor.numScales = bankScales;
-      lossOptions.descriptor.centerFrequency = bankFrequency;
-      ps::TextureLossWeights& w = lossOptions.weights;
-      w.psAutoLowpass = w.psAutoMagnitude = w.psCrossOrientation = w.psCrossScale = w.psColor =
-          psWeight;
       const ps::TextureLossTarget target(r.texView, mask, lossOptions);
       for (const auto& name : lib.namesInCategory(r.mat.category)) {
         ps::Rng graphRng(ps::Hasher().add(stream).add(std::string_view(name)).digest());
