@@ -36,10 +36,10 @@
 // Fit, per graph of the category: the features texture loss with its colour distribution group
 // (TextureLossTarget on the texture view at offset o1, full mask; colorSliced = --sliced, 12 by
 // default, 0 = the loss as the pipeline's fit uses it; --shape the spectral shape's weight, 3 by
-// default (the pipeline's fit has 0.3; here, with no light to separate from the albedo, 3 brings
-// the distance's spectrum block nearer and 12 on the colours keeps them where 4 had them: with
-// 4 the shape's weight turned two wood floors and a red plaster into other colours, graph
-// README); --ps W weights each joint-statistics group W, 0 by
+// default (the pipeline's fit has 0.3: at 1 its own graphs' UV rotation drifted, optim README;
+// here 3 brings the distance's spectrum block nearer, and 12 on the colours keeps them nearly
+// where 4 had them: with 4 the shape's weight turned a wood floor and a red plaster into other
+// colours, graph README); --ps W weights each joint-statistics group W, 0 by
 // default; its filter bank --bank-scales octaves from --bank-frequency cycles per pixel, 5 from
 // 0.35 by default: periods of 2.9 to 46 px, where the features' default of 4 from 0.25 sees 4 to
 // 32 and misses the photographs' pixel-scale grain and a plank's width; graph README) of the
@@ -186,7 +186,7 @@ ps::eval::TextureDistance meanDistance(const std::vector<ps::eval::TextureHistog
 
 // A covered row's colour distance above the texture's own by more than this is listed apart
 // (reported, not a criterion): most fitted graphs lie within 0.1 of the texture's own; a wood
-// floor fitted as grey paint lies near 1 (disjoint colours). Cream bricks for red ones lie
+// floor fitted as a painted one lies near 1 (disjoint colours). Cream bricks for red ones lie
 // between (ambientcg_bricks097: 0.27 against 0.13) and are not listed.
 constexpr double kColourSlack = 0.2;
 
@@ -505,15 +505,20 @@ int main(int argc, char** argv) {
       if (printValues) std::fprintf(stderr, "  %s\n", r.best.values.c_str());
     });
     int covered = 0;
-    std::string missing;
+    // the distance is luminance only: a row within 1.5x may hold the pattern in other colours
+    std::string missing, offColour;
     std::printf(
         "| material | half | category | best graph | graph tiles in view | d_self | d_graph "
         "| ratio |\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& r : rows) {
       const double ratio = r.ratio();
-      if (ratio <= 1.5)
+      if (ratio <= 1.5) {
         ++covered;
-      else
+        if (r.colourGraph > r.colourSelf + kColourSlack)
+          offColour += "- " + r.mat.name + ": " + r.best.graph +
+                       cv::format(", colour distance %.3f (the texture's own %.3f)\n",
+                                  r.colourGraph, r.colourSelf);
+      } else
         missing += "- " + r.mat.name + " (" + r.mat.category + "): best " + r.best.graph +
                    ", ratio " + cv::format("%.2f", ratio) + "\n";
       std::printf("| %s | %s | %s | %s | %.1f | %.4f | %.4f | %.2f |\n", r.mat.name.c_str(),
@@ -547,13 +552,6 @@ int main(int argc, char** argv) {
     }
     std::printf("\nwithout a graph within 1.5x:\n%s",
                 missing.empty() ? "(none)\n" : missing.c_str());
-    // the distance is luminance only: a row within 1.5x may hold the pattern in other colours
-    std::string offColour;
-    for (const auto& r : rows)
-      if (r.ratio() <= 1.5 && r.colourGraph > r.colourSelf + kColourSlack)
-        offColour += "- " + r.mat.name + ": " + r.best.graph +
-                     cv::format(", colour distance %.3f (the texture's own %.3f)\n", r.colourGraph,
-                                r.colourSelf);
     std::printf(
         "\nwithin 1.5x in other colours (colour distance above the texture's own + %.1f):\n%s",
         kColourSlack, offColour.empty() ? "(none)\n" : offColour.c_str());
