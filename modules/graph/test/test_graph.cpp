@@ -176,6 +176,73 @@ TEST(Graph_Nodes, tile_pattern_scale_scales_the_grain_inside_each_tile) {
   }
 }
 
+// The tone node: a power curve on luminance through the tile's mean. The pixel at the mean keeps
+// its value, darks fall by the dark exponent, every pixel keeps its chromaticity, 1, 1 is the
+// identity bit for bit, black stays black and finite; its gradient holds to 0.1 % (the generic
+// check's 2 % does not see the mean's share, which couples every pixel).
+TEST(Graph_Nodes, tone_curves_luminance_about_the_mean_and_keeps_chromaticity) {
+  auto g = ps::MaterialGraph::fromString(R"({"name":"x","category":"paint","nodes":[
+    {"id":"f","type":"fbm","params":{"scale_x":4,"scale_y":4,"octaves":3,"seed":5}},
+    {"id":"m","type":"gradient_map","inputs":{"in":"f"},
+     "params":{"color_0":[0.02,0.01,0.0],"color_1":[0.3,0.2,0.1],"color_2":[0.8,0.7,0.5]}},
+    {"id":"t","type":"tone","inputs":{"in":"m"}},
+    {"id":"n","type":"normal","inputs":{"height":"f"}}],
+    "outputs":{"albedo":"t","normal":"n","roughness":"f"},
+    "parameters":[{"name":"dark","targets":["t.dark"]},{"name":"light","targets":["t.light"]},
+                  {"name":"mid","targets":["m.color_1"]},{"name":"top","targets":["m.color_2"]}]})",
+                                         "x.json");
+  const cv::Mat before = g.evaluate(64).albedo;
+  g.setParameter("dark", {1.0f});  // set to the default: the identity, bit for bit
+  EXPECT_EQ(cv::norm(before, g.evaluate(64).albedo, cv::NORM_INF), 0.0);
+  g.setParameter("dark", {2.0f});
+  g.setParameter("light", {0.5f});
+  const cv::Mat after = g.evaluate(64).albedo;
+  cv::Mat yb, ya;
+  cv::transform(before, yb, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  cv::transform(after, ya, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  const double mean = cv::mean(yb)[0];
+  int darker = 0, darks = 0, lighter = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const double b = yb.at<float>(y, x), a = ya.at<float>(y, x);
+      ASSERT_TRUE(std::isfinite(a));
+      // dark 2: Y -> m (Y / m)^2 below the mean; light 0.5: m sqrt(Y / m) above it
+      const double want = b < mean ? mean * (b / mean) * (b / mean) : mean * std::sqrt(b / mean);
+      EXPECT_NEAR(a, want, 1e-4 + 1e-3 * want);
+      if (b < 0.9 * mean) ++darks, darker += a < b;
+      lighter += b > 1.1 * mean && a < b;  // compressed lights come down towards the mean
+      const cv::Vec3f pb = before.at<cv::Vec3f>(y, x), pa = after.at<cv::Vec3f>(y, x);
+      for (int k = 0; k < 3; ++k)  // chromaticity: each channel scaled as the luminance
+        EXPECT_NEAR(pa[k] * b, pb[k] * a, 1e-5);
+    }
+  EXPECT_GT(darks, 100);
+  EXPECT_EQ(darker, darks);
+  EXPECT_GT(lighter, 100);
+
+  ps::GradientCheckOptions o;
+  o.relTol = 1e-3;
+  o.absTol = 1e-9;
+  for (const std::vector<float>& v : {std::vector<float>{0.6f, 1.8f}, {1.7f, 0.7f}, {1.f, 2.2f}}) {
+    const auto rep = ps::checkNodeGradients("tone", v, o);
+    EXPECT_TRUE(rep.ok()) << v[0] << ", " << v[1] << ":\n" << rep.summary();
+    // through the graph: the colours move every pixel, and the mean with them
+    g.setParameter("dark", {v[0]});
+    g.setParameter("light", {v[1]});
+    const auto graphRep = ps::checkGraphGradients(g, o);
+    EXPECT_TRUE(graphRep.ok()) << v[0] << ", " << v[1] << ":\n" << graphRep.summary();
+  }
+  // black pixels, a black tile: finite values and gradients
+  auto black = ps::MaterialGraph::fromString(R"({"name":"x","category":"paint","nodes":[
+    {"id":"c","type":"uniform_color","params":{"color":[0,0,0]}},
+    {"id":"t","type":"tone","inputs":{"in":"c"},"params":{"dark":0.4,"light":2.5}},
+    {"id":"h","type":"uniform_gray"},{"id":"n","type":"normal","inputs":{"height":"h"}}],
+    "outputs":{"albedo":"t","normal":"n","roughness":"h"}})",
+                                             "x.json");
+  const cv::Mat z = black.evaluate(16).albedo;
+  EXPECT_TRUE(cv::checkRange(z));
+  EXPECT_EQ(cv::norm(z, cv::NORM_INF), 0.0);
+}
+
 // ------------------------------------------------------------------ library
 TEST(Graph_Library, has_40_valid_graphs_in_spec_categories) {
   const auto& l = lib();
