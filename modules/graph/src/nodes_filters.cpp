@@ -1,4 +1,4 @@
-// Filter nodes: blend, levels, curve, tone, HSL, gradient map, blurs, warps, transform, height ->
+// Filter nodes: blend, levels, curve, HSL, gradient map, blurs, warps, transform, height ->
 // normal, edge detect, histogram scan, invert, clamp, grayscale. Every filter wraps around the
 // edges (periodic), and every spatial quantity is in texture units.
 #include "node.hpp"
@@ -290,98 +290,6 @@ struct Curve {
       if (da && a > 0 && a < 1) *da += g * 4 * (p[s + 1] - p[s]);
     });
     for (int k = 0; k < 5; ++k) c.dP(k) += dp[k];
-  }
-};
-
-// ---------------------------------------------------------------- tone
-// A contrast curve about the tile's mean luminance that keeps each pixel's chromaticity: how far
-// the darks fall below the mean and the lights rise above it, which a graph's colours alone set
-// only together. Photographs differ from a graph's design mostly there (issue 18: the texture
-// distance's contrast block, each fitted view's luminance histogram matched to the photograph's
-// took the coverage's tune half from 12 to 15 covered).
-struct Tone {
-  enum { kDark, kLight };
-  static NodeTypeDesc desc() {
-    return {"tone",
-            "out = in * (Y / m)^(g - 1), Y the pixel's Rec. 709 luminance, m its mean over the "
-            "tile, g = dark where Y < m, light where Y >= m: a power curve on luminance through "
-            "the mean (the chromaticity kept); 1, 1 is the identity.",
-            {{"in", 3}},
-            {{"out", 3}},
-            {pCont("dark", 0.4f, 2.5f, 1, "exponent below the mean (> 1 deepens the darks)"),
-             pCont("light", 0.4f, 2.5f, 1, "exponent above the mean (> 1 lifts the lights)")}};
-  }
-  static constexpr double kFloor = 1e-4;  // luminance floor (black pixels, a black tile)
-  template <class T>
-  static T luminance(const T* p) {
-    return T(kLuminanceWeights[0]) * p[0] + T(kLuminanceWeights[1]) * p[1] +
-           T(kLuminanceWeights[2]) * p[2];
-  }
-  template <class T>
-  static T meanLuminance(const Plane<T>& a) {  // before the floor
-    T sum = 0;
-    for (int y = 0; y < a.n; ++y) {
-      const T* r = a.row(y);
-      for (int x = 0; x < a.n; ++x) sum += luminance(r + 3 * x);
-    }
-    return sum / T(a.n * a.n);
-  }
-  template <class T>
-  static void forward(NodeCtx<T>& c) {
-    const T gd = c.P(kDark), gl = c.P(kLight);
-    const Plane<T>& a = *c.in[0];
-    if (gd == T(1) && gl == T(1)) {  // the identity, bit for bit
-      c.out[0]->d = a.d;
-      return;
-    }
-    const T m = std::max(meanLuminance(a), T(kFloor));
-    forRows(c.n, [&](int y) {
-      const T* p = a.row(y);
-      T* o = c.out[0]->row(y);
-      for (int x = 0; x < c.n; ++x) {
-        const T r = std::max(luminance(p + 3 * x), T(kFloor)) / m;
-        const T s = std::pow(r, (r < 1 ? gd : gl) - 1);
-        for (int k = 0; k < 3; ++k) o[3 * x + k] = p[3 * x + k] * s;
-      }
-    });
-  }
-  template <class T>
-  static void backward(NodeCtx<T>& c) {
-    const T gd = c.P(kDark), gl = c.P(kLight);
-    const Plane<T>& a = *c.in[0];
-    const int n = c.n;
-    const T mean = meanLuminance(a), m = std::max(mean, T(kFloor));
-    const bool meanLive = mean > T(kFloor);  // the floor passes no gradient
-    T dd = 0, dl = 0, dm = 0;
-    for (int y = 0; y < n; ++y) {
-      const T* p = a.row(y);
-      const T* g = c.dOut[0]->row(y);
-      T* da = c.dIn[0] ? c.dIn[0]->row(y) : nullptr;
-      for (int x = 0; x < n; ++x) {
-        const T Y = luminance(p + 3 * x);
-        const bool live = Y > T(kFloor);
-        const T r = std::max(Y, T(kFloor)) / m;
-        const T e = (r < 1 ? gd : gl) - 1;
-        const T s = std::pow(r, e);
-        T G = 0;  // sum over channels of d loss / d out * in
-        for (int k = 0; k < 3; ++k) G += g[3 * x + k] * p[3 * x + k];
-        (r < 1 ? dd : dl) += G * s * std::log(r);
-        dm -= G * s * e / m;
-        if (!da) continue;
-        const T dY = live ? G * s * e / Y : T(0);
-        for (int k = 0; k < 3; ++k)
-          da[3 * x + k] += g[3 * x + k] * s + dY * T(kLuminanceWeights[k]);
-      }
-    }
-    c.dP(kDark) += dd;
-    c.dP(kLight) += dl;
-    if (!c.dIn[0] || !meanLive) return;
-    const T per = dm / T(n * n);  // d loss / d m spread over every pixel's luminance
-    for (int y = 0; y < n; ++y) {
-      T* da = c.dIn[0]->row(y);
-      for (int x = 0; x < n; ++x)
-        for (int k = 0; k < 3; ++k) da[3 * x + k] += per * T(kLuminanceWeights[k]);
-    }
   }
 };
 
@@ -1069,9 +977,8 @@ struct Grayscale {
 }  // namespace
 
 void addFilterNodes(std::vector<NodeType>& out) {
-  addNodeTypes<Blend, Levels, Curve, Tone, Hsl, GradientMap, Blur, DirectionalBlur, Warp,
-               DirectionalWarp, Transform, Normal, EdgeDetect, HistogramScan, Invert, Clamp,
-               Grayscale>(out);
+  addNodeTypes<Blend, Levels, Curve, Hsl, GradientMap, Blur, DirectionalBlur, Warp, DirectionalWarp,
+               Transform, Normal, EdgeDetect, HistogramScan, Invert, Clamp, Grayscale>(out);
 }
 
 const std::vector<NodeType>& nodeTypes() {
