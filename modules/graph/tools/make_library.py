@@ -103,10 +103,18 @@ def finish(g, height, rough, albedo, normal_intensity=0.02, metallic=None, norma
                 moved[src] = g.n('shift_' + key, 'transform', {'in': src}, offset_u=du, offset_v=dv)
         albedo, rough, height = moved[albedo], moved[rough], moved[height]
         metallic = moved.get(metallic) if metallic else None
+    # a photograph's pixel-scale grain (surface and sensor), absent from the designed patterns: a
+    # white noise finer than any view's pixel, overlaid on the albedo (opacity 0 by default: the
+    # identity; a fitting freedom only, not drawn, held in selection's short fits as grain_*)
+    g.n('fine', 'white_noise', scale=1024, seed=97)
+    g.n('fine_grain', 'blend', {'fg': 'fine', 'bg': albedo}, mode='overlay', opacity=0.0)
+    albedo = 'fine_grain'
     if normal_max is None:
         normal_max = round(min(0.1, max(0.02, 10 * normal_intensity)), 4)
     g.n('nrm', 'normal', {'height': height}, intensity=normal_intensity)
     g.p('normal_strength', 'nrm.intensity', doc='relief strength', min=0.0, max=normal_max)
+    g.p('grain_fine', 'fine_grain.opacity', min=0.0, max=0.2, draw_spread=0.0,
+        doc='pixel-scale albedo grain (overlay opacity of a white noise of 1024 cells a tile)')
     g.out(albedo=albedo, normal='nrm', roughness=rough, height=height)
     if metallic:
         g.out(metallic=metallic)
