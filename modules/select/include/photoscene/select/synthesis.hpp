@@ -89,7 +89,8 @@ struct SynthesisOptions {
   /// material. The finalists' shares are reported (SynthesisFinalist::chromaOutside).
   double maxChromaOutside = 0.1;
   /// Graph parameters the short fits hold at their start (PartFitOptions::heldParameters): the
-  /// library's octave amplitudes. A finalist is judged at its designed grain, as before the
+  /// library's octave amplitudes, the wood graphs' grain_scale and every graph's pixel-scale
+  /// grain_fine (0). A finalist is judged at its designed grain, as before the
   /// octaves were parameters (with them free, a plank floor's short fit of `wood_planks` raised
   /// its grain past the contrast test and `tile_checker` won); the final fit then fits them.
   std::vector<std::string> heldParameters = {"grain_*"};
