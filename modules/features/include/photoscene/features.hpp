@@ -12,6 +12,9 @@
 //                           magnitude correlations, opponent colour), optional loss terms
 //   texture_contrast.hpp    typicalLocalContrast(): the median local contrast of a region (fine
 //                           structure almost everywhere, not a few strong edges; model selection)
+//   texture_pixel.hpp       pixelStructure(), pixelStructureLoss(): how the finest grain is
+//                           correlated from pixel to pixel (white graph noise against a
+//                           photograph's grain), with its gradient
 //   texture_placement.hpp   ps::PlacementLossTarget, placementLoss(): the pattern's placement
 //                           (low-passed luminance correlation, the paper's Eq. 9 pixel term)
 #pragma once
@@ -19,6 +22,7 @@
 #include "photoscene/features/texture_contrast.hpp"
 #include "photoscene/features/texture_descriptor.hpp"
 #include "photoscene/features/texture_loss.hpp"
+#include "photoscene/features/texture_pixel.hpp"
 #include "photoscene/features/texture_placement.hpp"
 #include "photoscene/features/texture_ps.hpp"
 #include "photoscene/features/texture_structure.hpp"
