@@ -12,7 +12,7 @@ namespace ps {
 
 namespace {
 
-constexpr int kBorder = 3;          // Omega: pixels at least this far from the border
+constexpr int kBorder = 3;           // Omega: pixels at least this far from the border
 constexpr double kMeanFloor = 1e-6;  // mu's floor (linear luminance)
 constexpr double kContrastEps = 1e-3;
 constexpr int kEntries = 1 + PixelStructure::kLags;
@@ -62,7 +62,8 @@ Pass forward(const cv::Mat& image, double delta) {
       const double a = p.a.at<double>(r, c);
       v += a * a;
       for (int d = 0; d < PixelStructure::kLags; ++d)
-        p.cov[d] += a * p.a.at<double>(r + PixelStructure::kLag[d][1], c + PixelStructure::kLag[d][0]);
+        p.cov[d] +=
+            a * p.a.at<double>(r + PixelStructure::kLag[d][1], c + PixelStructure::kLag[d][0]);
     }
   p.v = v / p.omega + delta + 1e-20;
   for (double& c : p.cov) c /= p.omega;
@@ -74,7 +75,9 @@ Pass forward(const cv::Mat& image, double delta) {
 
 }  // namespace
 
-PixelStructure pixelStructure(const cv::Mat& image) { return forward(image, 0.0).s; }
+PixelStructure pixelStructure(const cv::Mat& image) {
+  return forward(image, 0.0).s;
+}
 
 double pixelStructureLoss(const cv::Mat& image, const PixelStructure& target, double weight,
                           cv::Mat* grad) {
