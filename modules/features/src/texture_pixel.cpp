@@ -12,13 +12,13 @@ namespace ps {
 
 namespace {
 
-constexpr int kBorder = 3;           // Omega: pixels at least this far from the border
-constexpr double kMeanFloor = 1e-6;  // mu's floor (linear luminance)
-constexpr double kContrastEps = 1e-3;
-constexpr int kEntries = 1 + PixelStructure::kLags;
+constexpr int kPixelBorder = 3;           // Omega: pixels at least this far from the border
+constexpr double kPixelMeanFloor = 1e-6;  // mu's floor (linear luminance)
+constexpr double kPixelContrastEps = 1e-3;
+constexpr int kPixelEntries = 1 + PixelStructure::kLags;
 
 // The forward pass with what the backward pass needs.
-struct Pass {
+struct PixelPass {
   cv::Mat y, a;  // luminance; centred residual A (CV_64FC1; 0 on the outer ring)
   double mu = 0, v = 0;
   std::array<double, PixelStructure::kLags> cov{};
@@ -26,11 +26,11 @@ struct Pass {
   PixelStructure s;
 };
 
-Pass forward(const cv::Mat& image, double delta) {
+PixelPass pixelForward(const cv::Mat& image, double delta) {
   checkImage(image, CV_32FC3, "pixelStructure image");
-  Pass p;
+  PixelPass p;
   const int h = image.rows, w = image.cols;
-  if (h < 2 * kBorder + 1 || w < 2 * kBorder + 1) return p;
+  if (h < 2 * kPixelBorder + 1 || w < 2 * kPixelBorder + 1) return p;
   p.y.create(h, w, CV_64FC1);
   double sum = 0;
   for (int r = 0; r < h; ++r) {
@@ -41,7 +41,7 @@ Pass forward(const cv::Mat& image, double delta) {
                       kLuminanceWeights[2] * in[c][2];
   }
   p.s.mean = sum / (double(h) * w);
-  p.mu = std::max(kMeanFloor, p.s.mean);
+  p.mu = std::max(kPixelMeanFloor, p.s.mean);
   p.a = cv::Mat::zeros(h, w, CV_64FC1);
   for (int r = 1; r < h - 1; ++r)
     for (int c = 1; c < w - 1; ++c) {
@@ -51,14 +51,14 @@ Pass forward(const cv::Mat& image, double delta) {
       p.a.at<double>(r, c) = p.y.at<double>(r, c) - box / 9;
     }
   double m = 0;
-  for (int r = kBorder; r < h - kBorder; ++r)
-    for (int c = kBorder; c < w - kBorder; ++c) m += p.a.at<double>(r, c), ++p.omega;
+  for (int r = kPixelBorder; r < h - kPixelBorder; ++r)
+    for (int c = kPixelBorder; c < w - kPixelBorder; ++c) m += p.a.at<double>(r, c), ++p.omega;
   m /= p.omega;
   for (int r = 1; r < h - 1; ++r)
     for (int c = 1; c < w - 1; ++c) p.a.at<double>(r, c) -= m;
   double v = 0;
-  for (int r = kBorder; r < h - kBorder; ++r)
-    for (int c = kBorder; c < w - kBorder; ++c) {
+  for (int r = kPixelBorder; r < h - kPixelBorder; ++r)
+    for (int c = kPixelBorder; c < w - kPixelBorder; ++c) {
       const double a = p.a.at<double>(r, c);
       v += a * a;
       for (int d = 0; d < PixelStructure::kLags; ++d)
@@ -76,17 +76,18 @@ Pass forward(const cv::Mat& image, double delta) {
 }  // namespace
 
 PixelStructure pixelStructure(const cv::Mat& image) {
-  return forward(image, 0.0).s;
+  return pixelForward(image, 0.0).s;
 }
 
 double pixelStructureLoss(const cv::Mat& image, const PixelStructure& target, double weight,
                           cv::Mat* grad) {
   const double delta = 1e-6 * target.mean * target.mean;
-  const Pass p = forward(image, delta);
+  const PixelPass p = pixelForward(image, delta);
   if (p.omega == 0) return 0.0;
   const PixelStructure& s = p.s;
-  const double k = weight / kEntries;
-  const double lc = std::log((s.contrast + kContrastEps) / (target.contrast + kContrastEps));
+  const double k = weight / kPixelEntries;
+  const double lc =
+      std::log((s.contrast + kPixelContrastEps) / (target.contrast + kPixelContrastEps));
   double loss = lc * lc;
   for (int d = 0; d < PixelStructure::kLags; ++d)
     loss += (s.correlation[d] - target.correlation[d]) * (s.correlation[d] - target.correlation[d]);
@@ -94,7 +95,7 @@ double pixelStructureLoss(const cv::Mat& image, const PixelStructure& target, do
   if (!grad) return loss;
 
   // contrast = sqrt(v) / mu, correlation_d = cov_d / v
-  const double gContrast = k * 2 * lc / (s.contrast + kContrastEps);
+  const double gContrast = k * 2 * lc / (s.contrast + kPixelContrastEps);
   const double sv = std::sqrt(p.v);
   double gv = gContrast * 0.5 / (sv * p.mu);
   std::array<double, PixelStructure::kLags> gCov{};
@@ -103,12 +104,12 @@ double pixelStructureLoss(const cv::Mat& image, const PixelStructure& target, do
     gCov[d] = gCorr / p.v;
     gv -= gCorr * p.cov[d] / (p.v * p.v);
   }
-  const double gMu = s.mean > kMeanFloor ? -gContrast * sv / (p.mu * p.mu) : 0.0;
+  const double gMu = s.mean > kPixelMeanFloor ? -gContrast * sv / (p.mu * p.mu) : 0.0;
   const int h = image.rows, w = image.cols;
   // through v and cov_d to A
   cv::Mat gA = cv::Mat::zeros(h, w, CV_64FC1);
-  for (int r = kBorder; r < h - kBorder; ++r)
-    for (int c = kBorder; c < w - kBorder; ++c) {
+  for (int r = kPixelBorder; r < h - kPixelBorder; ++r)
+    for (int c = kPixelBorder; c < w - kPixelBorder; ++c) {
       const double a = p.a.at<double>(r, c);
       double& g = gA.at<double>(r, c);
       g += gv * 2 * a / p.omega;
@@ -122,8 +123,8 @@ double pixelStructureLoss(const cv::Mat& image, const PixelStructure& target, do
   double gSum = 0;
   for (int r = 1; r < h - 1; ++r)
     for (int c = 1; c < w - 1; ++c) gSum += gA.at<double>(r, c);
-  for (int r = kBorder; r < h - kBorder; ++r)
-    for (int c = kBorder; c < w - kBorder; ++c) gA.at<double>(r, c) -= gSum / p.omega;
+  for (int r = kPixelBorder; r < h - kPixelBorder; ++r)
+    for (int c = kPixelBorder; c < w - kPixelBorder; ++c) gA.at<double>(r, c) -= gSum / p.omega;
   // R = Y - box3(Y), and mu = mean(Y)
   cv::Mat gY(h, w, CV_64FC1, cv::Scalar(gMu / (double(h) * w)));
   for (int r = 1; r < h - 1; ++r)
