@@ -262,15 +262,18 @@ Fit fitGraph(const ps::GraphLibrary& lib, const std::string& name,
     tp.target = &target;
     tp.render = v;
     std::vector<float> gPalette;
+    cv::Mat dPixel;  // the pixel term's gradient, taken with its loss on an update step
     const double L =
         ps::textureLossForward(tp) +
         (palette > 0 ? palette * ps::paletteLoss(g, s.x, update ? &gPalette : nullptr) : 0.0) +
-        (pixelWeight > 0 ? ps::pixelStructureLoss(v, pixelTarget, pixelWeight) : 0.0);
+        (pixelWeight > 0
+             ? ps::pixelStructureLoss(v, pixelTarget, pixelWeight, update ? &dPixel : nullptr)
+             : 0.0);
     if (L < s.best) s.best = L, s.bestX = s.x;
     if (!update) return L;
     cv::Mat dv;
     ps::textureLossBackward(tp, 1.f, dv);
-    if (pixelWeight > 0) ps::pixelStructureLoss(v, pixelTarget, pixelWeight, &dv);
+    if (!dPixel.empty()) dv += dPixel;
     if (rot) cv::rotate(dv, dv, cv::ROTATE_90_COUNTERCLOCKWISE);  // the adjoint of the turn
     cv::Mat drn(n, n, CV_32FC3, cv::Scalar::all(0));
     windowAdjoint(dv, ox % n, oy % n, drn);

@@ -37,8 +37,7 @@ PixelPass pixelForward(const cv::Mat& image, double delta) {
     const cv::Vec3f* in = image.ptr<cv::Vec3f>(r);
     double* out = p.y.ptr<double>(r);
     for (int c = 0; c < w; ++c)
-      sum += out[c] = kLuminanceWeights[0] * in[c][0] + kLuminanceWeights[1] * in[c][1] +
-                      kLuminanceWeights[2] * in[c][2];
+      sum += out[c] = luminance(double(in[c][0]), double(in[c][1]), double(in[c][2]));
   }
   p.s.mean = sum / (double(h) * w);
   p.mu = std::max(kPixelMeanFloor, p.s.mean);

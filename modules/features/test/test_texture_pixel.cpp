@@ -63,7 +63,8 @@ TEST(Features_Pixel, gradient_matches_finite_differences) {
     EXPECT_GT(c.maxNumeric, 0.0);
     EXPECT_LT(c.maxRelError, 0.02) << "max abs " << c.maxAbsError << " floor " << c.floor;
   }
-  // pixels on the border ring (outside the residual) move the loss only through the mean
+  // pixels on the outer ring (no residual of their own) reach the loss through their
+  // neighbours' 3 x 3 means and the mean luminance
   const cv::Mat render = noise(kPixelSize, 0.8, 9);
   const TextureLossGradientCheck ring = checkPixelStructureGradient(
       render, target, 1.0, {{0, 0}, {kPixelSize.width - 1, 5}, {3, kPixelSize.height - 1}}, 1e-3);

@@ -10,11 +10,11 @@
 // R = Y - box3(Y) (Y minus its 3 x 3 mean) on the pixels at least 1 from the border, and over
 // Omega, the pixels at least 3 from the border, A = R - mean_Omega(R),
 //   v     = mean_Omega(A^2) + delta,
-//   contrast       = sqrt(v) / mu                 (mu = the image's mean luminance, floored),
-//   correlation_d  = mean_Omega(A(p) A(p + d)) / v,  d in (1,0), (0,1), (1,1), (1,-1), (2,0),
-//   (0,2),
-// where delta = 1e-6 mu_target^2 in the loss (a flat render's correlations stay finite) and 0 in
-// pixelStructure(). Light level cancels in all seven.
+//   contrast       = sqrt(v) / mu   (mu = the image's mean luminance, floored),
+//   correlation_d  = mean_Omega(A(p) A(p + d)) / v,
+// d in (1,0), (0,1), (1,1), (1,-1), (2,0), (0,2), where delta = 1e-6 mu_target^2 in the loss (a
+// flat render's correlations stay finite) and 0 in pixelStructure(). Light level cancels in all
+// seven.
 //
 // Loss against a target's statistics (each entry's square, the mean of the seven, times weight):
 //   ( log((contrast + 1e-3) / (contrast_t + 1e-3)) )^2  and  (correlation_d - correlation_t,d)^2.
